@@ -1,0 +1,70 @@
+// Small math shared by every model: directions in the local shading frame, where the surface
+// normal is n = (0,0,1), and scalar helpers that work for double and ceres::Jet alike.
+//
+// Directions (light l, view v) are always plain doubles: only model parameters are
+// differentiated, so geometry never pays for automatic differentiation.
+#pragma once
+
+#include <Eigen/Core>
+#include <cmath>
+
+namespace brdffit {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kInvPi = 1.0 / kPi;
+
+using Vec3 = Eigen::Vector3d;
+template <class T>
+using Rgb = Eigen::Matrix<T, 3, 1>;
+
+// Unit half vector of two unit directions; +z when they are opposite.
+inline Vec3 half_vector(const Vec3& l, const Vec3& v) {
+  Vec3 h = l + v;
+  const double len = h.norm();
+  return len > 0.0 ? Vec3(h / len) : Vec3(0.0, 0.0, 1.0);
+}
+
+// Mirror direction of l about the normal (0,0,1): reflect(-l, n) in shader notation.
+inline Vec3 reflect_about_normal(const Vec3& l) { return Vec3(-l.x(), -l.y(), l.z()); }
+
+// Value-type clamps that only compare (Jet comparisons use the value part).
+template <class T>
+T max0(const T& x) {
+  return x > T(0.0) ? x : T(0.0);
+}
+template <class T>
+T saturate(const T& x) {
+  return x < T(0.0) ? T(0.0) : (x > T(1.0) ? T(1.0) : x);
+}
+
+// x^e for x >= 0: zero for x <= 0 so that neither pow(0, e) nor its derivative
+// (log 0 for a differentiated exponent) ever produces NaN.
+template <class X, class E>
+X pow_pos(const X& x, const E& e) {
+  using std::exp;
+  using std::log;
+  if (!(x > X(0.0))) return X(0.0);
+  return exp(e * log(x));
+}
+
+// Hermite smoothstep as in GLSL/HLSL: 0 below e0, 1 above e1, 3t²-2t³ between.
+template <class T, class E>
+T smoothstep(const E& e0, const E& e1, const T& x) {
+  const T t = saturate(T((x - e0) / (e1 - e0)));
+  return t * t * (T(3.0) - T(2.0) * t);
+}
+
+// Schlick's approximation of Fresnel reflectance for a cosine between light and half vector.
+template <class T>
+T schlick_fresnel(const T& f0, double cos_theta) {
+  const double m = 1.0 - cos_theta;
+  const double m5 = m * m * m * m * m;
+  return f0 + (T(1.0) - f0) * m5;
+}
+
+inline Vec3 normalized_or_zero(const Vec3& d) {
+  const double len = d.norm();
+  return len > 0.0 ? Vec3(d / len) : Vec3::Zero();
+}
+
+}  // namespace brdffit

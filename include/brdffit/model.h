@@ -1,0 +1,76 @@
+// The model interface every part of brdffit uses (CLI, fitter, renderer), and the registry.
+//
+// A model is written once as a small struct with a static templated evaluation (see
+// models/lambert.h for the pattern); ModelAdapter<M> (model_adapter.h) turns it into a Model.
+// Parameter values are passed flattened, in the order of parameters(), colours taking three
+// consecutive values (R, G, B).
+//
+// Convention, for every model: shade() is the shaded value f(l,v)·max(n·l,0) in the local
+// frame n = (0,0,1), for unit l and v; stylised models return the shader expression of their
+// seed without the light colour. brdf() is f itself (1/sr) where the model has one.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "brdffit/math.h"
+#include "brdffit/param.h"
+
+namespace ceres {
+class CostFunction;
+}
+
+namespace brdffit {
+
+struct ResidualBatch;  // fit_residual.h
+
+class Model {
+ public:
+  virtual ~Model() = default;
+
+  virtual const std::string& name() const = 0;
+  virtual const std::string& summary() const = 0;  // one line: formula and source
+  virtual const std::vector<ParamSpec>& parameters() const = 0;
+  virtual bool has_brdf() const = 0;          // physically based: f exists and is reciprocal
+  virtual bool energy_conserving() const = 0;  // directional albedo <= 1 inside the bounds
+
+  virtual Rgb<double> shade(const double* values, const Vec3& l, const Vec3& v) const = 0;
+  virtual std::optional<Rgb<double>> brdf(const double* values, const Vec3& l, const Vec3& v) const = 0;
+
+  // Shade with Ceres' automatic derivatives with respect to every flattened value:
+  // jacobian is 3 x num_values(), row-major. Used by tests and diagnostics.
+  virtual Rgb<double> shade_with_jacobian(const double* values, const Vec3& l, const Vec3& v,
+                                          double* jacobian) const = 0;
+
+  // A Ceres cost function covering a batch of samples (see fit_residual.h); owned by caller.
+  virtual ceres::CostFunction* new_batch_cost(const ResidualBatch& batch) const = 0;
+
+  int num_values() const { return flattened_size(parameters()); }
+  std::vector<double> default_values() const;
+  // Offset of the named parameter in the flattened values, or -1.
+  int offset_of(const std::string& param_name) const;
+  const ParamSpec* find_parameter(const std::string& param_name) const;
+};
+
+// Every model brdffit knows, in a stable order.
+const std::vector<std::unique_ptr<Model>>& all_models();
+// The model with this CLI name, or nullptr.
+const Model* find_model(const std::string& name);
+// The names of all models, comma separated (for messages).
+std::string model_names();
+
+}  // namespace brdffit
+
+namespace brdffit {
+
+// Applies "NAME=VALUE" assignments (VALUE one number, or R,G,B for colours) on top of the
+// model's defaults. Throws Error for an unknown parameter, a malformed or non-finite value, a
+// wrong number of components or a value outside the parameter's bounds.
+std::vector<double> parameter_values(const Model& model, const std::vector<std::string>& assignments);
+
+// Parses "x,y,z" into a vector; throws Error naming `what` when malformed or non-finite.
+Vec3 parse_vec3(const std::string& text, const std::string& what);
+
+}  // namespace brdffit

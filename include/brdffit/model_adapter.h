@@ -1,0 +1,62 @@
+// Turns a model struct (see models/lambert.h) into a brdffit::Model. Included by the registry
+// only: this is where the model's templated evaluation is instantiated for double and for
+// ceres::Jet.
+//
+// A model struct provides kName, kSummary, kEnergyConserving, kNumValues, parameters(), and
+// either brdf<T>(p, l, v) (physically based: shade = f·max(n·l,0) is derived here) or
+// shade<T>(p, l, v) (stylised: the seed's shader expression without the light colour).
+#pragma once
+
+#include <ceres/jet.h>
+
+#include "brdffit/fit_residual.h"
+#include "brdffit/model.h"
+
+namespace brdffit {
+
+template <class M>
+class ModelAdapter final : public Model {
+ public:
+  ModelAdapter() : name_(M::kName), summary_(M::kSummary), params_(M::parameters()) {
+    static_assert(M::kNumValues > 0, "a model needs parameters");
+  }
+
+  const std::string& name() const override { return name_; }
+  const std::string& summary() const override { return summary_; }
+  const std::vector<ParamSpec>& parameters() const override { return params_; }
+  bool has_brdf() const override { return HasBrdf<M>::value; }
+  bool energy_conserving() const override { return M::kEnergyConserving; }
+
+  Rgb<double> shade(const double* values, const Vec3& l, const Vec3& v) const override {
+    return shade_of<M>(values, l, v);
+  }
+
+  std::optional<Rgb<double>> brdf(const double* values, const Vec3& l, const Vec3& v) const override {
+    if constexpr (HasBrdf<M>::value) {
+      return M::brdf(values, l, v);
+    } else {
+      return std::nullopt;
+    }
+  }
+
+  Rgb<double> shade_with_jacobian(const double* values, const Vec3& l, const Vec3& v,
+                                  double* jacobian) const override {
+    using Jet = ceres::Jet<double, M::kNumValues>;
+    Jet p[M::kNumValues];
+    for (int i = 0; i < M::kNumValues; ++i) p[i] = Jet(values[i], i);
+    const Rgb<Jet> s = shade_of<M>(p, l, v);
+    for (int c = 0; c < 3; ++c)
+      for (int i = 0; i < M::kNumValues; ++i) jacobian[c * M::kNumValues + i] = s[c].v[i];
+    return Rgb<double>(s[0].a, s[1].a, s[2].a);
+  }
+
+  ceres::CostFunction* new_batch_cost(const ResidualBatch& batch) const override {
+    return new BatchCost<M>(batch);
+  }
+
+ private:
+  std::string name_, summary_;
+  std::vector<ParamSpec> params_;
+};
+
+}  // namespace brdffit

@@ -1,0 +1,52 @@
+// GGX (Trowbridge-Reitz) microfacet specular over a Lambert base.
+//
+//   f(l,v) = albedo/π + D(h)·F(l·h)·G(l,v) / (4 (n·l)(n·v))
+//   D = α² / (π ((n·h)²(α²-1) + 1)²)            α = roughness²  (Burley 2012 remapping)
+//   F = f0 + (1-f0)(1-l·h)^5                     Schlick
+//   G = G1(n·l)·G1(n·v),  G1(x) = x / (x(1-k) + k),  k = α/2   (Schlick-Smith, as the seed)
+//
+// Seed: 004_e79c30797da74a89.txt (John Hable's brdf_ggx). The seed returns n·l·D·F·vis with
+// vis = G/((n·l)(n·v)) and leaves out the microfacet denominator's 1/4; brdffit keeps the 1/4
+// (Walter et al. 2007) so the lobe is normalised: its directional albedo is at most 1.
+// f0 is a colour so that metals (coloured specular) can be fitted.
+#pragma once
+
+#include "brdffit/models/common.h"
+
+namespace brdffit::models {
+
+struct Ggx {
+  static constexpr const char* kName = "ggx";
+  static constexpr const char* kSummary =
+      "albedo/π + D·F·G/(4 n·l n·v): GGX/Trowbridge-Reitz, Schlick F, Schlick-Smith G, α = roughness²";
+  static constexpr bool kEnergyConserving = true;
+  enum : int { kAlbedo = 0, kRoughness = 3, kF0 = 4, kNumValues = 7 };
+
+  static std::vector<ParamSpec> parameters() {
+    return {albedo_param(),
+            {"roughness", 1, 0.01, 1.0, 0.5, "perceptual roughness; the GGX width is alpha = roughness²",
+             Role::Roughness, false, false, Spacing::Log},
+            {"f0", 3, 0.0, 1.0, 0.04, "specular reflectance at normal incidence per channel (Schlick F0)",
+             Role::F0, /*linear=*/true}};
+  }
+
+  template <class T>
+  static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
+    const double nl = l.z(), nv = v.z();
+    Rgb<T> f = lambert_term(p + kAlbedo);
+    if (nl <= 0.0 || nv <= 0.0) return f;
+    const Vec3 h = half_vector(l, v);
+    const double nh = h.z(), lh = l.dot(h);
+    const T alpha = p[kRoughness] * p[kRoughness];
+    const T alpha2 = alpha * alpha;
+    const T denom = nh * nh * (alpha2 - 1.0) + 1.0;
+    const T d = alpha2 / (kPi * denom * denom);
+    const T k = alpha * 0.5;
+    const T g = nl / (nl * (1.0 - k) + k) * (nv / (nv * (1.0 - k) + k));
+    const T dg = d * g / (4.0 * nl * nv);
+    for (int c = 0; c < 3; ++c) f[c] += dg * schlick_fresnel(p[kF0 + c], lh);
+    return f;
+  }
+};
+
+}  // namespace brdffit::models

@@ -1,0 +1,43 @@
+// Description of one model parameter: what users call it, where it may lie, where fits start,
+// and how the fitter should treat it.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace brdffit {
+
+enum class Role {
+  DiffuseColour,   // colour of the diffuse (body) term
+  SpecularColour,  // colour/scale of the specular lobe
+  F0,              // Fresnel reflectance at normal incidence
+  Roughness,       // microfacet or surface roughness
+  Exponent,        // lobe sharpness exponent (shininess, gloss, n)
+  Wrap,            // how far lighting wraps past the terminator
+  Shape,           // any other shape parameter
+};
+
+const char* role_name(Role role);
+
+// How multi-start spreads its starting points across the parameter's range.
+enum class Spacing { Linear, Log };
+
+struct ParamSpec {
+  std::string name;
+  int channels = 1;  // 3 for colours (R,G,B), 1 for shared shape parameters
+  double lower = 0.0;
+  double upper = 1.0;
+  double default_value = 0.5;
+  std::string meaning;  // one line
+  Role role = Role::Shape;
+  // True when the shaded value is affine in this parameter jointly with the model's other
+  // linear parameters, channel by channel; the fitter then solves it exactly (variable projection).
+  bool linear = false;
+  bool integer = false;  // searched over its integer range rather than optimised continuously
+  Spacing spacing = Spacing::Linear;
+};
+
+// Number of scalar values a parameter list occupies when flattened (colours take three).
+int flattened_size(const std::vector<ParamSpec>& params);
+
+}  // namespace brdffit

@@ -1,0 +1,39 @@
+// Measured reflectance as the fitter sees it: directions, the measured shaded value and a weight.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "brdffit/math.h"
+
+namespace brdffit {
+
+struct Sample {
+  Vec3 l;              // unit direction towards the light, local frame (n = +z)
+  Vec3 v;              // unit direction towards the viewer
+  Rgb<double> value;   // measured shaded value f(l,v)·cosθi per channel
+  double weight = 1.0; // relative importance, e.g. the solid angle a table bin covers
+};
+
+struct SampleSet {
+  std::vector<Sample> samples;
+  std::string source;     // file or description the samples came from
+  std::string weighting;  // how weights were chosen, for reports ("uniform", "solid-angle", ...)
+
+  size_t size() const { return samples.size(); }
+  bool empty() const { return samples.empty(); }
+};
+
+// Options shared by every source when it turns a table into samples.
+struct SamplingOptions {
+  double max_angle_deg = 90.0;  // drop samples with θi or θo above this (Ngan 2005 used 80°)
+  size_t max_samples = 0;       // 0: keep all; otherwise a deterministic subset of this size
+  uint64_t seed = 1;            // for the subset
+};
+
+// Drops samples beyond the angle limit, then keeps a deterministic random subset
+// (weights are kept; the subset is uniform so relative weights stay meaningful).
+void apply_sampling_options(SampleSet& set, const SamplingOptions& options);
+
+}  // namespace brdffit

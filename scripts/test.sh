@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds brdffit and runs the whole test suite; then builds and runs
+# it once more with AddressSanitizer and UndefinedBehaviorSanitizer (skip with --no-sanitize).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/install-deps.sh
+jobs=$(nproc)
+
+run_suite() {  # build-dir, extra cmake args...
+  local dir=$1; shift
+  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Release "$@" > "$dir.configure.log" 2>&1 || { cat "$dir.configure.log"; exit 1; }
+  cmake --build "$dir" -j "$jobs"
+  ctest --test-dir "$dir" --output-on-failure -j "$jobs"
+}
+
+mkdir -p build
+run_suite build
+if [[ "${1:-}" != "--no-sanitize" ]]; then
+  echo "== again with AddressSanitizer + UndefinedBehaviorSanitizer"
+  mkdir -p build-asan
+  ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+    run_suite build-asan -DBRDFFIT_SANITIZE=ON -DBRDFFIT_BUILD_BENCH=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo
+fi

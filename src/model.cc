@@ -1,0 +1,149 @@
+#include "brdffit/model.h"
+
+#include <numeric>
+
+#include "brdffit/metric.h"
+#include "brdffit/param.h"
+
+namespace brdffit {
+
+const char* role_name(Role role) {
+  switch (role) {
+    case Role::DiffuseColour: return "diffuse colour";
+    case Role::SpecularColour: return "specular colour";
+    case Role::F0: return "F0";
+    case Role::Roughness: return "roughness";
+    case Role::Exponent: return "exponent";
+    case Role::Wrap: return "wrap";
+    case Role::Shape: return "shape";
+  }
+  return "shape";
+}
+
+int flattened_size(const std::vector<ParamSpec>& params) {
+  return std::accumulate(params.begin(), params.end(), 0, [](int n, const ParamSpec& p) { return n + p.channels; });
+}
+
+std::vector<double> Model::default_values() const {
+  std::vector<double> values;
+  for (const ParamSpec& p : parameters()) values.insert(values.end(), p.channels, p.default_value);
+  return values;
+}
+
+int Model::offset_of(const std::string& param_name) const {
+  int offset = 0;
+  for (const ParamSpec& p : parameters()) {
+    if (p.name == param_name) return offset;
+    offset += p.channels;
+  }
+  return -1;
+}
+
+const ParamSpec* Model::find_parameter(const std::string& param_name) const {
+  for (const ParamSpec& p : parameters())
+    if (p.name == param_name) return &p;
+  return nullptr;
+}
+
+const Model* find_model(const std::string& name) {
+  for (const auto& m : all_models())
+    if (m->name() == name) return m.get();
+  return nullptr;
+}
+
+std::string model_names() {
+  std::string names;
+  for (const auto& m : all_models()) names += (names.empty() ? "" : ", ") + m->name();
+  return names;
+}
+
+const char* metric_name(Metric metric) {
+  switch (metric) {
+    case Metric::Cosine: return "cosine";
+    case Metric::Log: return "log";
+    case Metric::Relative: return "relative";
+    case Metric::L2: return "l2";
+  }
+  return "cosine";
+}
+
+std::optional<Metric> parse_metric(const std::string& name) {
+  for (Metric m : {Metric::Cosine, Metric::Log, Metric::Relative, Metric::L2})
+    if (name == metric_name(m)) return m;
+  return std::nullopt;
+}
+
+double Metrics::get(Metric metric) const {
+  switch (metric) {
+    case Metric::Cosine: return cosine;
+    case Metric::Log: return log;
+    case Metric::Relative: return relative;
+    case Metric::L2: return l2;
+  }
+  return cosine;
+}
+
+}  // namespace brdffit
+
+#include <cmath>
+#include <sstream>
+
+#include "brdffit/error.h"
+
+namespace brdffit {
+
+namespace {
+std::vector<double> parse_numbers(const std::string& text, const std::string& what) {
+  std::vector<double> numbers;
+  std::stringstream stream(text);
+  std::string item;
+  while (std::getline(stream, item, ',')) {
+    size_t used = 0;
+    double value = 0.0;
+    try {
+      value = std::stod(item, &used);
+    } catch (const std::exception&) {
+      fail("{}: '{}' is not a number", what, item);
+    }
+    if (used != item.size() || !std::isfinite(value)) fail("{}: '{}' is not a finite number", what, item);
+    numbers.push_back(value);
+  }
+  if (numbers.empty()) fail("{}: no value given", what);
+  return numbers;
+}
+}  // namespace
+
+std::vector<double> parameter_values(const Model& model, const std::vector<std::string>& assignments) {
+  std::vector<double> values = model.default_values();
+  for (const std::string& assignment : assignments) {
+    const size_t eq = assignment.find('=');
+    if (eq == std::string::npos) fail("--param '{}': expected NAME=VALUE", assignment);
+    const std::string name = assignment.substr(0, eq);
+    const ParamSpec* spec = model.find_parameter(name);
+    if (!spec) {
+      std::string known;
+      for (const ParamSpec& p : model.parameters()) known += (known.empty() ? "" : ", ") + p.name;
+      fail("--param '{}': model {} has no parameter '{}' (it has: {})", assignment, model.name(), name, known);
+    }
+    std::vector<double> numbers = parse_numbers(assignment.substr(eq + 1), "--param " + name);
+    if (numbers.size() == 1) numbers.assign(spec->channels, numbers[0]);
+    if (static_cast<int>(numbers.size()) != spec->channels)
+      fail("--param '{}': {} takes {} value(s), got {}", assignment, name, spec->channels == 3 ? "1 or 3" : "1",
+           numbers.size());
+    for (double x : numbers) {
+      if (x < spec->lower || x > spec->upper)
+        fail("--param '{}': {} must lie in [{}, {}], got {}", assignment, name, spec->lower, spec->upper, x);
+      if (spec->integer && x != std::round(x)) fail("--param '{}': {} must be an integer", assignment, name);
+    }
+    std::copy(numbers.begin(), numbers.end(), values.begin() + model.offset_of(name));
+  }
+  return values;
+}
+
+Vec3 parse_vec3(const std::string& text, const std::string& what) {
+  const std::vector<double> numbers = parse_numbers(text, what);
+  if (numbers.size() != 3) fail("{}: expected X,Y,Z, got '{}'", what, text);
+  return Vec3(numbers[0], numbers[1], numbers[2]);
+}
+
+}  // namespace brdffit

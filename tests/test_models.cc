@@ -1,0 +1,281 @@
+// Properties every model must have (gradients, non-negativity, reciprocity, energy, linearity
+// claims), hand-derived values for the base models, and the models/eval commands.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "brdffit/error.h"
+#include "brdffit/model.h"
+#include "test_util.h"
+
+namespace brdffit {
+namespace {
+
+using test::dir;
+
+Rgb<double> shade(const std::string& name, const std::vector<std::string>& params, const Vec3& l, const Vec3& v) {
+  const Model* model = find_model(name);
+  EXPECT_NE(model, nullptr) << name;
+  const std::vector<double> values = parameter_values(*model, params);
+  return model->shade(values.data(), l, v);
+}
+
+void expect_rgb_near(const Rgb<double>& actual, double r, double g, double b, double tol = 1e-9) {
+  EXPECT_NEAR(actual[0], r, tol);
+  EXPECT_NEAR(actual[1], g, tol);
+  EXPECT_NEAR(actual[2], b, tol);
+}
+
+TEST(Registry, HasEveryModelTheIssueNames) {
+  for (const char* name : {"lambert", "ggx"}) EXPECT_NE(find_model(name), nullptr) << name;
+}
+
+TEST(Registry, ParameterTablesAreConsistent) {
+  for (const auto& m : all_models()) {
+    SCOPED_TRACE(m->name());
+    EXPECT_FALSE(m->summary().empty());
+    for (const ParamSpec& p : m->parameters()) {
+      SCOPED_TRACE(p.name);
+      EXPECT_LT(p.lower, p.upper);
+      EXPECT_GE(p.default_value, p.lower);
+      EXPECT_LE(p.default_value, p.upper);
+      EXPECT_FALSE(p.meaning.empty());
+      EXPECT_TRUE(p.channels == 1 || p.channels == 3);
+      if (p.linear) EXPECT_EQ(p.channels, 3) << "linear parameters are per-channel colours";
+      if (p.spacing == Spacing::Log) EXPECT_GT(p.lower, 0.0);
+    }
+  }
+}
+
+// --- hand-derived values -------------------------------------------------------------------
+
+TEST(Lambert, HandValues) {
+  // f = albedo/π; shade = f·cosθi.
+  expect_rgb_near(shade("lambert", {"albedo=1"}, dir(0, 0, 1), dir(1, 0, 1)), 1 / kPi, 1 / kPi, 1 / kPi);
+  expect_rgb_near(shade("lambert", {"albedo=0.2,0.4,0.6"}, dir(1, 0, 1), dir(0, 0, 1)),
+                  0.2 / kPi * std::sqrt(0.5), 0.4 / kPi * std::sqrt(0.5), 0.6 / kPi * std::sqrt(0.5));
+  expect_rgb_near(shade("lambert", {"albedo=1"}, dir(1, 0, -0.2), dir(0, 0, 1)), 0, 0, 0);
+}
+
+TEST(Ggx, HandValues) {
+  // Normal incidence and view: h = n, D = α²/π/α⁴ = 1/(πα²), F = f0, G = 1.
+  // roughness 0.5: α = 0.25, D = 16/π; f = albedo/π + D·f0/4.
+  const double d = 16.0 / kPi;
+  expect_rgb_near(shade("ggx", {"albedo=0.5", "roughness=0.5", "f0=0.04"}, dir(0, 0, 1), dir(0, 0, 1)),
+                  0.5 / kPi + d * 0.04 / 4, 0.5 / kPi + d * 0.04 / 4, 0.5 / kPi + d * 0.04 / 4);
+  // roughness 1 (α = 1): D = 1/π everywhere, k = 0.5, G1(x) = 2x/(x+1).
+  // l = (sin60,0,cos60), v = n: h at 30°, l·h = cos30.
+  {
+    const double nl = 0.5, nv = 1.0, lh = std::cos(kPi / 6);
+    const double g = (2 * nl / (nl + 1)) * (2 * nv / (nv + 1));
+    const double f = 0.3 + std::pow(1 - lh, 5) * 0.7;
+    const double spec = (1 / kPi) * f * g / (4 * nl * nv);
+    const Rgb<double> s = shade("ggx", {"albedo=0", "roughness=1", "f0=0.3"}, dir(std::sqrt(3), 0, 1), dir(0, 0, 1));
+    expect_rgb_near(s, spec * nl, spec * nl, spec * nl);
+  }
+  // Coloured f0 only changes the specular term per channel; light below the horizon gives 0.
+  expect_rgb_near(shade("ggx", {"albedo=0", "roughness=0.5", "f0=1,0.5,0"}, dir(0, 0, 1), dir(0, 0, 1)), d / 4,
+                  d / 8, 0.0);
+  expect_rgb_near(shade("ggx", {}, dir(0, 1, -0.1), dir(0, 0, 1)), 0, 0, 0);
+}
+
+// --- properties of every model ------------------------------------------------------------
+
+TEST(AllModels, AutodiffGradientsMatchCentralDifferences) {
+  std::mt19937_64 rng(7);
+  for (const auto& m : all_models()) {
+    SCOPED_TRACE(m->name());
+    const int n = m->num_values();
+    for (int trial = 0; trial < 25; ++trial) {
+      std::vector<double> values = test::random_values(*m, rng);
+      const Vec3 l = test::random_upper_direction(rng), v = test::random_upper_direction(rng);
+      std::vector<double> jac(3 * n);
+      m->shade_with_jacobian(values.data(), l, v, jac.data());
+      for (int i = 0; i < n; ++i) {
+        if (m->parameters()[0].integer) continue;
+        const double h = 1e-6 * std::max(1.0, std::abs(values[i]));
+        std::vector<double> up = values, down = values;
+        up[i] += h;
+        down[i] -= h;
+        const Rgb<double> fd = (m->shade(up.data(), l, v) - m->shade(down.data(), l, v)) / (2 * h);
+        for (int c = 0; c < 3; ++c) {
+          const double ad = jac[c * n + i];
+          EXPECT_NEAR(ad, fd[c], 1e-6 * std::max({1.0, std::abs(ad), std::abs(fd[c])}))
+              << "value " << i << " channel " << c;
+        }
+      }
+    }
+  }
+}
+
+TEST(AllModels, NonNegative) {
+  std::mt19937_64 rng(11);
+  for (const auto& m : all_models()) {
+    SCOPED_TRACE(m->name());
+    for (int trial = 0; trial < 2000; ++trial) {
+      const std::vector<double> values = test::random_values(*m, rng, 0.0);
+      const Vec3 l = test::random_upper_direction(rng, 0.0), v = test::random_upper_direction(rng, 0.0);
+      const Rgb<double> s = m->shade(values.data(), l, v);
+      for (int c = 0; c < 3; ++c) ASSERT_GE(s[c], 0.0) << "l " << l.transpose() << " v " << v.transpose();
+    }
+  }
+}
+
+TEST(AllModels, BrdfIsReciprocal) {
+  std::mt19937_64 rng(13);
+  for (const auto& m : all_models()) {
+    if (!m->has_brdf()) continue;
+    SCOPED_TRACE(m->name());
+    for (int trial = 0; trial < 500; ++trial) {
+      const std::vector<double> values = test::random_values(*m, rng);
+      const Vec3 l = test::random_upper_direction(rng), v = test::random_upper_direction(rng);
+      const Rgb<double> a = *m->brdf(values.data(), l, v), b = *m->brdf(values.data(), v, l);
+      for (int c = 0; c < 3; ++c) ASSERT_NEAR(a[c], b[c], 1e-9 * std::max(1.0, std::abs(a[c])));
+    }
+  }
+}
+
+// Directional albedo ∫ f cosθi dωi, by stratified sampling of the hemisphere (cosine-weighted).
+Rgb<double> directional_albedo(const Model& m, const std::vector<double>& values, const Vec3& v) {
+  const int n = 400;
+  Rgb<double> sum = Rgb<double>::Zero();
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      // cosine-weighted: pdf = cosθ/π, so ∫ f cosθ dω ≈ mean(π f) = mean(π shade / cosθ).
+      const double u1 = (i + 0.5) / n, u2 = (j + 0.5) / n;
+      const double r = std::sqrt(u1), phi = 2 * kPi * u2;
+      const Vec3 l(r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0, 1 - u1)));
+      if (l.z() <= 0) continue;
+      sum += m.shade(values.data(), l, v) * (kPi / l.z());
+    }
+  return sum / double(n * n);
+}
+
+TEST(AllModels, NormalisedLobesReflectAtMostOne) {
+  // Each linear lobe at its upper bound alone, every shape parameter at each of its bounds.
+  for (const auto& m : all_models()) {
+    if (!m->energy_conserving()) continue;
+    SCOPED_TRACE(m->name());
+    const auto& params = m->parameters();
+    std::vector<int> shape_offsets;
+    for (const ParamSpec& p : params)
+      if (!p.linear) shape_offsets.push_back(m->offset_of(p.name));
+    for (const ParamSpec& lobe : params) {
+      if (!lobe.linear) continue;
+      for (int corner = 0; corner < (1 << shape_offsets.size()); ++corner) {
+        std::vector<double> values = m->default_values();
+        for (const ParamSpec& p : params)
+          if (p.linear) std::fill_n(values.begin() + m->offset_of(p.name), 3, p.name == lobe.name ? p.upper : 0.0);
+        for (size_t k = 0; k < shape_offsets.size(); ++k) {
+          const ParamSpec* p = nullptr;
+          int offset = 0;
+          for (const ParamSpec& q : params) {
+            if (offset == shape_offsets[k]) p = &q;
+            offset += q.channels;
+          }
+          std::fill_n(values.begin() + shape_offsets[k], p->channels, (corner >> k) & 1 ? p->upper : p->lower);
+        }
+        for (double theta_deg : {0.0, 30.0, 60.0, 80.0}) {
+          const double t = theta_deg * kPi / 180;
+          const Rgb<double> a = directional_albedo(*m, values, Vec3(std::sin(t), 0, std::cos(t)));
+          EXPECT_LE(a.maxCoeff(), 1.02) << "lobe " << lobe.name << " corner " << corner << " θo " << theta_deg;
+        }
+      }
+    }
+  }
+}
+
+TEST(AllModels, LinearParametersEnterAffinely) {
+  // What the fitter's variable projection relies on: shade(a·x + (1-a)·y) = a·shade(x) + (1-a)·shade(y)
+  // when x and y differ only in linear parameters.
+  std::mt19937_64 rng(17);
+  for (const auto& m : all_models()) {
+    SCOPED_TRACE(m->name());
+    for (int trial = 0; trial < 200; ++trial) {
+      std::vector<double> x = test::random_values(*m, rng), y = x, mid = x;
+      const std::vector<double> other = test::random_values(*m, rng);
+      int offset = 0;
+      for (const ParamSpec& p : m->parameters()) {
+        if (p.linear)
+          for (int c = 0; c < p.channels; ++c) {
+            y[offset + c] = other[offset + c];
+            mid[offset + c] = 0.3 * x[offset + c] + 0.7 * y[offset + c];
+          }
+        offset += p.channels;
+      }
+      const Vec3 l = test::random_upper_direction(rng), v = test::random_upper_direction(rng);
+      const Rgb<double> expected = 0.3 * m->shade(x.data(), l, v) + 0.7 * m->shade(y.data(), l, v);
+      const Rgb<double> actual = m->shade(mid.data(), l, v);
+      for (int c = 0; c < 3; ++c) ASSERT_NEAR(actual[c], expected[c], 1e-9 * std::max(1.0, std::abs(expected[c])));
+    }
+  }
+}
+
+// --- parameters and the CLI ------------------------------------------------------------------
+
+TEST(Parameters, RejectsUnknownMalformedAndOutOfBounds) {
+  const Model& ggx = *find_model("ggx");
+  EXPECT_THROW(parameter_values(ggx, {"shininess=3"}), Error);
+  EXPECT_THROW(parameter_values(ggx, {"roughness=abc"}), Error);
+  EXPECT_THROW(parameter_values(ggx, {"roughness=2"}), Error);
+  EXPECT_THROW(parameter_values(ggx, {"albedo=0.1,0.2"}), Error);
+  EXPECT_THROW(parameter_values(ggx, {"roughness=nan"}), Error);
+  EXPECT_THROW(parameter_values(ggx, {"roughness"}), Error);
+  const std::vector<double> v = parameter_values(ggx, {"albedo=0.1,0.2,0.3", "roughness=0.7"});
+  EXPECT_EQ(v[0], 0.1);
+  EXPECT_EQ(v[2], 0.3);
+  EXPECT_EQ(v[ggx.offset_of("roughness")], 0.7);
+  EXPECT_EQ(v[ggx.offset_of("f0")], 0.04);  // default
+}
+
+TEST(Cli, ModelsListsEveryModel) {
+  const auto text = test::run_cli("models");
+  ASSERT_EQ(text.exit_code, 0) << text.output;
+  const auto json = test::run_cli("models --json");
+  ASSERT_EQ(json.exit_code, 0) << json.output;
+  const nlohmann::json list = nlohmann::json::parse(json.output);
+  ASSERT_EQ(list.size(), all_models().size());
+  for (const auto& m : all_models()) {
+    EXPECT_NE(text.output.find(m->name()), std::string::npos) << m->name();
+    bool found = false;
+    for (const auto& entry : list) found |= entry["model"] == m->name();
+    EXPECT_TRUE(found) << m->name();
+  }
+}
+
+TEST(Cli, EvalMatchesTheLibrary) {
+  std::mt19937_64 rng(19);
+  for (const auto& m : all_models()) {
+    SCOPED_TRACE(m->name());
+    const std::vector<double> values = test::random_values(*m, rng);
+    std::string args = "eval " + m->name() + " --light 0.3,-0.2,1 --view -0.4,0.1,0.8 --json";
+    int offset = 0;
+    for (const ParamSpec& p : m->parameters()) {
+      args += " --param " + p.name + "=";
+      for (int c = 0; c < p.channels; ++c) args += (c ? "," : "") + fmt::format("{:.17g}", values[offset + c]);
+      offset += p.channels;
+    }
+    const auto result = test::run_cli(args);
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    const nlohmann::json out = nlohmann::json::parse(result.output);
+    const Rgb<double> expected = m->shade(values.data(), dir(0.3, -0.2, 1), dir(-0.4, 0.1, 0.8));
+    EXPECT_EQ(out["model"], m->name());
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(out["shade"][c].get<double>(), expected[c], 1e-12 * (1 + std::abs(expected[c])));
+    EXPECT_EQ(out["brdf"].is_null(), !m->has_brdf());
+  }
+}
+
+TEST(Cli, BadArgumentsExitNonZeroWithAMessage) {
+  for (const char* args : {"eval nosuchmodel --light 0,0,1 --view 0,0,1", "eval ggx --param roughness=5 --light 0,0,1 --view 0,0,1",
+                           "eval ggx --param gloss=5 --light 0,0,1 --view 0,0,1", "eval ggx --light 0,0 --view 0,0,1",
+                           "eval ggx --light 0,0,0 --view 0,0,1", "eval ggx --view 0,0,1", "nosuchcommand"}) {
+    SCOPED_TRACE(args);
+    const auto result = test::run_cli(args);
+    EXPECT_NE(result.exit_code, 0);
+    EXPECT_FALSE(result.output.empty());
+  }
+  EXPECT_NE(test::run_cli("eval nosuchmodel --light 0,0,1 --view 0,0,1").output.find("unknown model 'nosuchmodel'"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace brdffit

@@ -1,0 +1,61 @@
+// Helpers shared by the tests: random directions and parameters, running the CLI.
+#pragma once
+
+#include <array>
+#include <cstdio>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "brdffit/model.h"
+
+namespace brdffit::test {
+
+// A uniformly random direction in the upper hemisphere, kept away from grazing (z >= min_z).
+inline Vec3 random_upper_direction(std::mt19937_64& rng, double min_z = 0.05) {
+  std::normal_distribution<double> normal;
+  for (;;) {
+    Vec3 d(normal(rng), normal(rng), std::abs(normal(rng)));
+    const double len = d.norm();
+    if (len < 1e-9) continue;
+    d /= len;
+    if (d.z() >= min_z) return d;
+  }
+}
+
+// Random values strictly inside every parameter's bounds (integers: a random integer).
+inline std::vector<double> random_values(const Model& model, std::mt19937_64& rng, double margin = 0.05) {
+  std::vector<double> values;
+  std::uniform_real_distribution<double> unit(margin, 1.0 - margin);
+  for (const ParamSpec& p : model.parameters())
+    for (int c = 0; c < p.channels; ++c) {
+      double x = p.lower + unit(rng) * (p.upper - p.lower);
+      if (p.integer) x = std::round(x);
+      values.push_back(x);
+    }
+  return values;
+}
+
+inline Vec3 dir(double x, double y, double z) { return Vec3(x, y, z).normalized(); }
+
+struct CommandResult {
+  int exit_code;
+  std::string output;  // stdout and stderr together
+};
+
+// Runs a shell command and captures what it prints.
+inline CommandResult run_command(const std::string& command) {
+  CommandResult result{-1, ""};
+  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
+  if (!pipe) return result;
+  std::array<char, 4096> buffer;
+  size_t n;
+  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.output.append(buffer.data(), n);
+  const int status = ::pclose(pipe);
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+inline CommandResult run_cli(const std::string& arguments) { return run_command(std::string(BRDFFIT_CLI) + " " + arguments); }
+
+}  // namespace brdffit::test
