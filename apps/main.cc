@@ -12,6 +12,10 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "brdffit " BRDFFIT_VERSION);
   brdffit::cli::add_models_commands(app);
+  brdffit::cli::add_table_commands(app);
+  brdffit::cli::add_fit_commands(app);
+  brdffit::cli::add_sphere_commands(app);
+  brdffit::cli::add_batch_commands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

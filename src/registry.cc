@@ -15,8 +15,10 @@ void add(std::vector<std::unique_ptr<Model>>& models) {
 const std::vector<std::unique_ptr<Model>>& all_models() {
   static const std::vector<std::unique_ptr<Model>> models = [] {
     std::vector<std::unique_ptr<Model>> list;
+    // From the seeds (shared/seeds): one line per model, in the order users meet them.
     add<models::Lambert>(list);
     add<models::Ggx>(list);
+    // From the literature (Ngan et al. 2005 conventions).
     return list;
   }();
   return models;

@@ -1,0 +1,65 @@
+// The generic fitter: any model of the library against any sample set.
+//
+// For each model: a deterministic multi-start grid over the shape parameters (on a subsample),
+// with the linear colour parameters solved exactly for every grid point (variable projection);
+// Levenberg-Marquardt (Ceres, automatic derivatives, batched residuals in parallel) from the
+// best starts on the subsample, then from the best of those on all samples; integer parameters
+// are searched over their range; standard deviations from Ceres' covariance at the optimum.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "brdffit/metric.h"
+#include "brdffit/model.h"
+#include "brdffit/samples.h"
+
+namespace brdffit {
+
+enum class LossKind { None, Huber, Cauchy };
+
+struct FitOptions {
+  Metric metric = Metric::Cosine;   // what is minimised; every metric is reported
+  bool per_channel = false;         // shape parameters fitted per channel (colours always are)
+  LossKind loss = LossKind::None;   // robust loss per sample-channel (photographs)
+  double loss_scale = 0.0;          // residual scale where the robust loss bends; 0 = automatic
+  int threads = 0;                  // 0 = all cores
+  int max_iterations = 100;         // Levenberg-Marquardt iterations on the full sample set
+  int grid_points = 256;            // multi-start grid size over the shape parameters (at most)
+  int starts = 3;                   // best grid points refined by LM on the subsample
+  size_t subsample = 12000;         // samples used by the grid and the first refinements
+  uint64_t seed = 1;                // for the subsample
+  bool single_start = false;        // LM from the model defaults only (tests, comparisons)
+};
+
+struct ParameterEstimate {
+  std::string name;
+  std::vector<double> value;   // 1 or 3 entries (3 for colours, and for shape parameters fitted per channel)
+  std::vector<double> stddev;  // NaN where not identifiable or not estimated
+  bool identifiable = true;    // false: the data do not determine this parameter
+  bool at_bound = false;       // the optimum sits on a bound (its stddev is only indicative)
+};
+
+struct FitResult {
+  std::string model;
+  bool ok = false;
+  std::string error;                      // why the fit failed, when !ok
+  std::vector<double> values;             // flattened, in the model's parameter order (per-channel: channel R's shape)
+  std::vector<ParameterEstimate> parameters;
+  Metrics metrics;
+  int iterations = 0;
+  std::string termination;                // Ceres' termination type and message
+  double seconds = 0.0;
+  size_t samples = 0;
+};
+
+// Fits one model; never throws for a fit that goes wrong (it returns ok = false with the
+// reason), only for invalid options or an empty sample set (Error).
+FitResult fit_model(const Model& model, const SampleSet& data, const FitOptions& options);
+
+// Every metric for given parameter values (flattened, model order) on a sample set.
+// per_channel_values: when non-empty, three full value vectors, one per channel.
+Metrics evaluate_metrics(const Model& model, const std::vector<double>& values, const SampleSet& data,
+                         const std::vector<std::vector<double>>& per_channel_values = {});
+
+}  // namespace brdffit
