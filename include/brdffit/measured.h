@@ -1,0 +1,41 @@
+// Measured reflectance tables (MERL .binary, RGL .bsdf) and tabulated samples (CSV): the one
+// entry point the rest of brdffit uses to read measured data.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "brdffit/samples.h"
+
+namespace brdffit {
+
+// Summary of a table for `brdffit info`.
+struct TableInfo {
+  std::string format;       // "merl", "rgl", "csv"
+  std::string resolution;   // e.g. "90x90x180"
+  size_t valid = 0;         // bins (or rows) with a measurement
+  size_t invalid = 0;       // bins with none (negative in MERL files)
+  Rgb<double> min = Rgb<double>::Zero(), max = Rgb<double>::Zero();  // over valid values of f
+  Rgb<double> albedo = Rgb<double>::Zero();  // directional albedo at normal incidence
+};
+
+// A measured BRDF that can be evaluated at any pair of directions.
+class MeasuredBrdf {
+ public:
+  virtual ~MeasuredBrdf() = default;
+  virtual const std::string& path() const = 0;
+  virtual TableInfo info() const = 0;
+  // f(l, v) in 1/sr for unit directions in the local frame (n = +z); zero below the horizon.
+  virtual Rgb<double> eval(const Vec3& l, const Vec3& v) const = 0;
+  // The samples a fit uses (values are f·cosθi), with this source's weights.
+  virtual SampleSet samples(const SamplingOptions& options) const = 0;
+};
+
+// Opens a MERL or RGL table, choosing the reader by content and extension. Throws Error naming
+// the file and the problem.
+std::unique_ptr<MeasuredBrdf> open_measured(const std::string& path);
+
+// Samples from any readable input: MERL, RGL or CSV. Throws Error naming the file and the problem.
+SampleSet load_samples(const std::string& path, const SamplingOptions& options);
+
+}  // namespace brdffit
