@@ -1,0 +1,33 @@
+// The versioned result document shared by `fit`, `sphere` and `batch` (schema 1):
+// {"schema": 1, "tool": "brdffit X.Y.Z", "input": {"path", "sha256"}, "samples", "weighting",
+//  "metric", "models": [{"model", "status": "ok"|"failed", "error", "parameters":
+//  {name: {"value", "stddev", "identifiable", "at_bound"}}, "metrics": {...}, "iterations",
+//  "termination", "seconds"}]}
+// Colours (and per-channel shape parameters) have [r,g,b] values and stddevs; NaN stddevs are null.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "brdffit/fit.h"
+
+namespace brdffit {
+
+nlohmann::json fit_result_json(const FitResult& result);
+
+// The whole document for one input; callers may add keys (e.g. the sphere pipeline's).
+nlohmann::json fit_document_json(const std::string& input_path, const SampleSet& data, const FitOptions& options,
+                                 const std::vector<FitResult>& results);
+
+// Reads back a document written by fit_document_json; throws Error naming the file when it is
+// not one. Used by compare, report, render and export.
+struct FitDocument {
+  std::string path;
+  nlohmann::json json;
+  std::string input_path;
+  std::vector<FitResult> results;
+};
+FitDocument read_fit_document(const std::string& path);
+
+}  // namespace brdffit
