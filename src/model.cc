@@ -1,7 +1,12 @@
 #include "brdffit/model.h"
 
+#include <algorithm>
+#include <cmath>
 #include <numeric>
+#include <sstream>
 
+#include "brdffit/error.h"
+#include "brdffit/fit.h"
 #include "brdffit/metric.h"
 #include "brdffit/param.h"
 
@@ -83,14 +88,6 @@ double Metrics::get(Metric metric) const {
   return cosine;
 }
 
-}  // namespace brdffit
-
-#include <cmath>
-#include <sstream>
-
-#include "brdffit/error.h"
-
-namespace brdffit {
 
 namespace {
 std::vector<double> parse_numbers(const std::string& text, const std::string& what) {
@@ -144,6 +141,24 @@ Vec3 parse_vec3(const std::string& text, const std::string& what) {
   const std::vector<double> numbers = parse_numbers(text, what);
   if (numbers.size() != 3) fail("{}: expected X,Y,Z, got '{}'", what, text);
   return Vec3(numbers[0], numbers[1], numbers[2]);
+}
+
+
+std::vector<const Model*> parse_model_list(const std::string& list) {
+  std::vector<const Model*> models;
+  if (list == "all") {
+    for (const auto& m : all_models()) models.push_back(m.get());
+    return models;
+  }
+  std::stringstream stream(list);
+  for (std::string name; std::getline(stream, name, ',');) {
+    if (name.empty()) continue;
+    const Model* m = find_model(name);
+    if (!m) fail("--models: unknown model '{}' (known: {})", name, model_names());
+    if (std::find(models.begin(), models.end(), m) == models.end()) models.push_back(m);
+  }
+  if (models.empty()) fail("--models: no model named");
+  return models;
 }
 
 }  // namespace brdffit

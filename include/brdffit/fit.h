@@ -29,7 +29,8 @@ struct FitOptions {
   int starts = 3;                   // best grid points refined by LM on the subsample
   size_t subsample = 12000;         // samples used by the grid and the first refinements
   uint64_t seed = 1;                // for the subsample
-  bool single_start = false;        // LM from the model defaults only (tests, comparisons)
+  bool single_start = false;        // LM from the initial values only (tests, comparisons)
+  std::vector<double> initial_values;  // flattened start; empty: the model's defaults
 };
 
 struct ParameterEstimate {
@@ -44,7 +45,10 @@ struct FitResult {
   std::string model;
   bool ok = false;
   std::string error;                      // why the fit failed, when !ok
-  std::vector<double> values;             // flattened, in the model's parameter order (per-channel: channel R's shape)
+  std::vector<double> values;             // flattened, in the model's parameter order
+  // With per_channel: the full value vector fitted for each channel (R, G, B); a channel's
+  // prediction uses its own vector. `values` then holds channel R's shape parameters.
+  std::vector<std::vector<double>> channel_values;
   std::vector<ParameterEstimate> parameters;
   Metrics metrics;
   int iterations = 0;
@@ -56,6 +60,14 @@ struct FitResult {
 // Fits one model; never throws for a fit that goes wrong (it returns ok = false with the
 // reason), only for invalid options or an empty sample set (Error).
 FitResult fit_model(const Model& model, const SampleSet& data, const FitOptions& options);
+
+// Fits each model in turn; a model whose fit fails is reported as failed (ok = false, error set)
+// and the others are still fitted.
+std::vector<FitResult> fit_models(const std::vector<const Model*>& models, const SampleSet& data,
+                                  const FitOptions& options);
+
+// Parses "a,b,c" or "all" into models; throws Error naming an unknown model.
+std::vector<const Model*> parse_model_list(const std::string& list);
 
 // Every metric for given parameter values (flattened, model order) on a sample set.
 // per_channel_values: when non-empty, three full value vectors, one per channel.

@@ -133,19 +133,25 @@ class BatchCost final : public ceres::CostFunction {
     const int F = num_free_;
     const Eigen::MatrixXd jtj = Eigen::MatrixXd(jtj_full).topLeftCorner(F, F);
     const Eigen::VectorXd jtr = jtr_full.head(F);
-    // Any square root of JᵀJ will do; the eigen-decomposition also copes with a singular one
-    // (a parameter that does not affect these samples), where Jᵀr has no component either.
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(jtj);
+    // Any square root of JᵀJ will do. With S = diag(JᵀJ)^-½ and S·JᵀJ·S = V Λ Vᵀ:
+    // R = Λ^½ Vᵀ S⁻¹ and y = Λ^-½ Vᵀ S Jᵀr. The scaling keeps precision when values differ in
+    // scale by orders of magnitude (albedo against a sharp lobe's F0); the eigen-decomposition
+    // copes with a singular JᵀJ (a value these samples do not determine), where Jᵀr has no
+    // component either.
+    Eigen::VectorXd s(F);
+    for (int k = 0; k < F; ++k) s[k] = jtj(k, k) > 0.0 ? 1.0 / std::sqrt(jtj(k, k)) : 1.0;
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(s.asDiagonal() * jtj * s.asDiagonal());
     const Eigen::VectorXd lambda = eig.eigenvalues().cwiseMax(0.0);
     const double tiny = 1e-300 + lambda.maxCoeff() * 1e-15;
+    const Eigen::VectorXd scaled_jtr = s.cwiseProduct(jtr);
     Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> jac(jacobian, F + 1, F);
     jac.setZero();
     double yy = 0.0;
     for (int k = 0; k < F; ++k) {
       const double root = std::sqrt(lambda[k]);
       const Eigen::VectorXd u = eig.eigenvectors().col(k);
-      jac.row(k) = root * u.transpose();
-      residuals[k] = lambda[k] > tiny ? u.dot(jtr) / root : 0.0;
+      jac.row(k).head(F) = root * u.cwiseQuotient(s).transpose();
+      residuals[k] = lambda[k] > tiny ? u.dot(scaled_jtr) / root : 0.0;
       yy += residuals[k] * residuals[k];
     }
     residuals[F] = std::sqrt(std::max(rr - yy, 0.0));

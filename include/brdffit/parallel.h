@@ -1,0 +1,33 @@
+// A minimal parallel loop for independent work items (grid points, chunks of samples).
+#pragma once
+
+#include <algorithm>
+#include <thread>
+#include <vector>
+
+namespace brdffit {
+
+// The number of worker threads to use for a request of `requested` (0: every core).
+inline int thread_count(int requested) {
+  if (requested > 0) return requested;
+  return std::max(1u, std::thread::hardware_concurrency());
+}
+
+// Calls body(i) for i in [0, n) on up to `threads` threads; items are interleaved so that
+// uneven items spread across threads. body must not throw.
+template <class Body>
+void parallel_for(size_t n, int threads, Body&& body) {
+  const size_t workers = std::min<size_t>(n, static_cast<size_t>(std::max(1, threads)));
+  if (workers <= 1) {
+    for (size_t i = 0; i < n; ++i) body(i);
+    return;
+  }
+  std::vector<std::thread> pool;
+  for (size_t w = 0; w < workers; ++w)
+    pool.emplace_back([&, w] {
+      for (size_t i = w; i < n; i += workers) body(i);
+    });
+  for (std::thread& t : pool) t.join();
+}
+
+}  // namespace brdffit

@@ -1,0 +1,669 @@
+// The generic fitter (see fit.h for the strategy).
+#include "brdffit/fit.h"
+
+#include <ceres/ceres.h>
+#include <glog/logging.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <random>
+
+#include "brdffit/error.h"
+#include "brdffit/fit_residual.h"
+#include "brdffit/parallel.h"
+
+namespace brdffit {
+
+namespace {
+
+using Channels = std::array<bool, 3>;
+constexpr Channels kAllChannels{true, true, true};
+
+// Where each flattened value comes from: its parameter and its channel (0 for scalars).
+struct ValueSlot {
+  const ParamSpec* param;
+  int channel;
+};
+
+std::vector<ValueSlot> value_slots(const Model& model) {
+  std::vector<ValueSlot> slots;
+  for (const ParamSpec& p : model.parameters())
+    for (int c = 0; c < p.channels; ++c) slots.push_back({&p, c});
+  return slots;
+}
+
+// A value is fitted in a channel-restricted fit when it is a scalar, or a colour component of
+// a fitted channel.
+bool is_fitted(const ValueSlot& slot, const Channels& channels) {
+  return slot.param->channels == 1 || channels[slot.channel];
+}
+
+std::unique_ptr<ceres::LossFunction> make_loss(LossKind kind, double scale) {
+  switch (kind) {
+    case LossKind::Huber: return std::make_unique<ceres::HuberLoss>(scale);
+    case LossKind::Cauchy: return std::make_unique<ceres::CauchyLoss>(scale);
+    case LossKind::None: break;
+  }
+  return nullptr;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Plain evaluation: cost and residuals with doubles.
+
+// Σ over samples and fitted channels of the squared (robustified, weighted) residual.
+double cost_of(const Model& model, const std::vector<double>& values, const std::vector<Sample>& samples,
+               Metric metric, const Channels& channels, const ceres::LossFunction* loss) {
+  double sum = 0.0;
+  for (const Sample& s : samples) {
+    const Rgb<double> shade = model.shade(values.data(), s.l, s.v);
+    const double sqrt_w = std::sqrt(metric_weight(metric, s.weight));
+    for (int c = 0; c < 3; ++c) {
+      if (!channels[c]) continue;
+      double r, scale;
+      detail::robustify(loss, metric_residual(metric, shade[c], s.value[c]) * sqrt_w, r, scale);
+      sum += r * r;
+    }
+  }
+  return std::isfinite(sum) ? sum : HUGE_VAL;
+}
+
+// Median absolute residual (unweighted by the loss) on the fitted channels, for the robust
+// loss's automatic scale.
+double median_abs_residual(const Model& model, const std::vector<double>& values,
+                           const std::vector<Sample>& samples, Metric metric, const Channels& channels) {
+  std::vector<double> abs_residuals;
+  for (const Sample& s : samples) {
+    const Rgb<double> shade = model.shade(values.data(), s.l, s.v);
+    for (int c = 0; c < 3; ++c)
+      if (channels[c])
+        abs_residuals.push_back(std::fabs(metric_residual(metric, shade[c], s.value[c])) *
+                                std::sqrt(metric_weight(metric, s.weight)));
+  }
+  if (abs_residuals.empty()) return 0.0;
+  auto middle = abs_residuals.begin() + abs_residuals.size() / 2;
+  std::nth_element(abs_residuals.begin(), middle, abs_residuals.end());
+  return *middle;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Variable projection: the linear colour parameters solved exactly for fixed shape parameters.
+
+// Minimises xᵀAx - 2bᵀx over the box lower <= x <= upper for small n (at most a few colour
+// parameters) by trying every active set: each variable free, at its lower or at its upper bound.
+Eigen::VectorXd solve_box_quadratic(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, const Eigen::VectorXd& lower,
+                                    const Eigen::VectorXd& upper) {
+  const int n = static_cast<int>(b.size());
+  int combinations = 1;
+  for (int i = 0; i < n; ++i) combinations *= 3;
+  Eigen::VectorXd best = lower;
+  double best_value = HUGE_VAL;
+  for (int code = 0; code < combinations; ++code) {
+    Eigen::VectorXd x(n);
+    std::vector<int> free;
+    int rest = code;
+    for (int i = 0; i < n; ++i, rest /= 3) {
+      if (rest % 3 == 0) free.push_back(i);
+      x[i] = rest % 3 == 1 ? lower[i] : upper[i];
+    }
+    if (!free.empty()) {
+      const int f = static_cast<int>(free.size());
+      Eigen::MatrixXd a_free(f, f);
+      Eigen::VectorXd rhs(f);
+      for (int i = 0; i < f; ++i) {
+        rhs[i] = b[free[i]];
+        for (int j = 0; j < n; ++j)
+          if (std::find(free.begin(), free.end(), j) == free.end()) rhs[i] -= a(free[i], j) * x[j];
+        for (int j = 0; j < f; ++j) a_free(i, j) = a(free[i], free[j]);
+      }
+      const Eigen::VectorXd x_free = a_free.completeOrthogonalDecomposition().solve(rhs);
+      bool feasible = x_free.allFinite();
+      for (int i = 0; i < f && feasible; ++i) {
+        feasible = x_free[i] >= lower[free[i]] - 1e-12 && x_free[i] <= upper[free[i]] + 1e-12;
+        x[free[i]] = std::clamp(x_free[i], lower[free[i]], upper[free[i]]);
+      }
+      if (!feasible) continue;
+    }
+    const double value = x.dot(a * x) - 2.0 * b.dot(x);
+    if (value < best_value) {
+      best_value = value;
+      best = x;
+    }
+  }
+  return best;
+}
+
+// Sets the model's linear parameters (fitted channels only) to their weighted least-squares
+// optimum within bounds, for the current shape parameters. The prediction is affine in them:
+// shade_c = base_c + Σ_j x_jc · basis_jc. For the relative and log metrics the residual is
+// weighted by its first-order sensitivity so the solve matches the metric near the data.
+void solve_linear(const Model& model, std::vector<double>& values, const std::vector<Sample>& samples, Metric metric,
+                  const Channels& channels) {
+  std::vector<const ParamSpec*> linear;
+  for (const ParamSpec& p : model.parameters())
+    if (p.linear) linear.push_back(&p);
+  if (linear.empty()) return;
+  const int m = static_cast<int>(linear.size());
+
+  std::vector<double> probe = values;
+  for (const ParamSpec* p : linear) std::fill_n(probe.begin() + model.offset_of(p->name), 3, 0.0);
+  std::array<Eigen::MatrixXd, 3> a;
+  std::array<Eigen::VectorXd, 3> b;
+  for (int c = 0; c < 3; ++c) {
+    a[c] = Eigen::MatrixXd::Zero(m, m);
+    b[c] = Eigen::VectorXd::Zero(m);
+  }
+  std::vector<Rgb<double>> basis(m);
+  for (const Sample& s : samples) {
+    const Rgb<double> base = model.shade(probe.data(), s.l, s.v);
+    for (int j = 0; j < m; ++j) {
+      const int offset = model.offset_of(linear[j]->name);
+      std::fill_n(probe.begin() + offset, 3, 1.0);
+      basis[j] = model.shade(probe.data(), s.l, s.v) - base;
+      std::fill_n(probe.begin() + offset, 3, 0.0);
+    }
+    for (int c = 0; c < 3; ++c) {
+      if (!channels[c]) continue;
+      double w = metric_weight(metric, s.weight);
+      if (metric == Metric::Relative) w /= std::pow(std::fabs(s.value[c]) + kRelativeEpsilon, 2);
+      if (metric == Metric::Log) w /= std::pow(1.0 + std::max(s.value[c], 0.0), 2);
+      const double target = s.value[c] - base[c];
+      for (int i = 0; i < m; ++i) {
+        b[c][i] += w * basis[i][c] * target;
+        for (int j = 0; j < m; ++j) a[c](i, j) += w * basis[i][c] * basis[j][c];
+      }
+    }
+  }
+  Eigen::VectorXd lower(m), upper(m);
+  for (int j = 0; j < m; ++j) {
+    lower[j] = linear[j]->lower;
+    upper[j] = linear[j]->upper;
+  }
+  for (int c = 0; c < 3; ++c) {
+    if (!channels[c]) continue;
+    const Eigen::VectorXd x = solve_box_quadratic(a[c], b[c], lower, upper);
+    for (int j = 0; j < m; ++j) values[model.offset_of(linear[j]->name) + c] = x[j];
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Multi-start grid over the shape parameters.
+
+// Candidate values for one shape parameter: n points spread over its range (log-spaced for
+// exponents and roughness), or every integer for integer parameters.
+std::vector<double> grid_axis(const ParamSpec& p, int n) {
+  std::vector<double> axis;
+  if (p.integer) {
+    const int lo = static_cast<int>(std::ceil(p.lower)), hi = static_cast<int>(std::floor(p.upper));
+    const int step = std::max(1, (hi - lo + 1) / std::max(n, 1));
+    for (int k = lo; k <= hi; k += step) axis.push_back(k);
+    return axis;
+  }
+  for (int k = 0; k < n; ++k) {
+    const double t = (k + 0.5) / n;
+    axis.push_back(p.spacing == Spacing::Log ? p.lower * std::pow(p.upper / p.lower, t)
+                                             : p.lower + t * (p.upper - p.lower));
+  }
+  return axis;
+}
+
+struct Start {
+  std::vector<double> values;
+  double cost;
+};
+
+// Every grid point's values with the linear parameters solved, sorted by cost on `samples`.
+std::vector<Start> grid_starts(const Model& model, const std::vector<double>& initial,
+                               const std::vector<Sample>& samples, Metric metric, const Channels& channels,
+                               const FitOptions& options) {
+  // Grid over the scalar, non-linear parameters. Non-linear colours stay at their start.
+  std::vector<const ParamSpec*> axes_params;
+  for (const ParamSpec& p : model.parameters())
+    if (!p.linear && p.channels == 1) axes_params.push_back(&p);
+  const int dims = static_cast<int>(axes_params.size());
+  const int per_axis =
+      dims == 0 ? 1 : std::clamp(static_cast<int>(std::floor(std::pow(options.grid_points, 1.0 / dims))), 2, 24);
+  std::vector<std::vector<double>> axes;
+  size_t total = 1;
+  for (const ParamSpec* p : axes_params) {
+    axes.push_back(grid_axis(*p, per_axis));
+    total *= axes.back().size();
+  }
+
+  std::vector<Start> starts(total + 1);
+  // The last entry starts from `initial` itself (the defaults), so the grid never does worse.
+  parallel_for(total + 1, thread_count(options.threads), [&](size_t index) {
+    std::vector<double> values = initial;
+    size_t rest = index;
+    if (index < total)
+      for (int d = 0; d < dims; ++d) {
+        values[model.offset_of(axes_params[d]->name)] = axes[d][rest % axes[d].size()];
+        rest /= axes[d].size();
+      }
+    solve_linear(model, values, samples, metric, channels);
+    starts[index] = {values, cost_of(model, values, samples, metric, channels, nullptr)};
+  });
+  std::sort(starts.begin(), starts.end(), [](const Start& a, const Start& b) { return a.cost < b.cost; });
+  return starts;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Levenberg-Marquardt with Ceres.
+
+struct Refinement {
+  std::vector<double> values;
+  double cost = HUGE_VAL;  // Ceres' cost: ½ Σ r²
+  int iterations = 0;
+  bool usable = false;
+  std::string termination;
+  Eigen::MatrixXd covariance;  // over the free values, unscaled (JᵀJ)⁻¹; empty if not computed
+  std::vector<bool> identifiable;  // per free value
+  std::vector<int> free_index;
+};
+
+class LeastSquares {
+ public:
+  LeastSquares(const Model& model, const std::vector<Sample>& samples, Metric metric, const Channels& channels,
+               const ceres::LossFunction* loss, const FitOptions& options)
+      : model_(model), samples_(samples), metric_(metric), channels_(channels), loss_(loss), options_(options) {}
+
+  // LM from `start`; function_tolerance: relative cost change at which it stops.
+  Refinement run(const std::vector<double>& start, int max_iterations, double function_tolerance = 1e-10) const {
+    Refinement out;
+    out.values = start;
+    out.free_index = free_values();
+    if (out.free_index.empty()) {
+      out.cost = 0.5 * cost_of(model_, start, samples_, metric_, channels_, loss_);
+      out.usable = std::isfinite(out.cost);
+      out.termination = "nothing to optimise";
+      return out;
+    }
+    std::vector<double> x;
+    ceres::Problem problem;
+    build_problem(out, x, problem);
+
+    ceres::Solver::Options solver;
+    solver.minimizer_type = ceres::TRUST_REGION;
+    solver.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+    solver.linear_solver_type = ceres::DENSE_QR;  // a few dozen rows: the batches are compressed
+    solver.max_num_iterations = max_iterations;
+    solver.function_tolerance = function_tolerance;
+    solver.gradient_tolerance = 1e-12;
+    solver.parameter_tolerance = 1e-10;
+    solver.num_threads = thread_count(options_.threads);
+    // With bounds, Ceres follows each trust-region step with a projected line search that
+    // costs two more Jacobian evaluations per iteration; the projected LM step alone converges.
+    solver.max_num_line_search_step_size_iterations = 0;
+    solver.logging_type = ceres::SILENT;
+    ceres::Solver::Summary summary;
+    ceres::Solve(solver, &problem, &summary);
+
+    for (size_t k = 0; k < x.size(); ++k) out.values[out.free_index[k]] = x[k];
+    out.cost = summary.final_cost;
+    out.iterations = static_cast<int>(summary.iterations.size()) - 1;
+    out.termination = std::string(ceres::TerminationTypeToString(summary.termination_type)) + ": " + summary.message;
+    out.usable = summary.termination_type != ceres::FAILURE && summary.termination_type != ceres::USER_FAILURE &&
+                 std::isfinite(summary.final_cost) &&
+                 std::all_of(x.begin(), x.end(), [](double v) { return std::isfinite(v); });
+    return out;
+  }
+
+  // Fills r.covariance and r.identifiable at r.values.
+  void estimate_covariance(Refinement& r) const {
+    if (r.free_index.empty() || !r.usable) return;
+    std::vector<double> x;
+    ceres::Problem problem;
+    build_problem(r, x, problem);
+    estimate_covariance(problem, x, r);
+  }
+
+ private:
+  // Values LM optimises: all but integer parameters and the colour components of channels
+  // this fit leaves alone.
+  std::vector<int> free_values() const {
+    std::vector<int> free;
+    const std::vector<ValueSlot> slots = value_slots(model_);
+    for (int i = 0; i < static_cast<int>(slots.size()); ++i)
+      if (!slots[i].param->integer && is_fitted(slots[i], channels_)) free.push_back(i);
+    return free;
+  }
+
+  // One residual block per batch of samples over the free values x, with the bounds.
+  void build_problem(Refinement& r, std::vector<double>& x, ceres::Problem& problem) const {
+    x.clear();
+    for (int i : r.free_index) x.push_back(r.values[i]);
+    // Enough batches to keep every thread busy, each large enough to amortise its overhead.
+    const size_t batches =
+        std::clamp<size_t>(samples_.size() / 2048, 1, static_cast<size_t>(thread_count(options_.threads)) * 16);
+    const size_t per_batch = (samples_.size() + batches - 1) / batches;
+    for (size_t begin = 0; begin < samples_.size(); begin += per_batch) {
+      ResidualBatch batch;
+      batch.samples = samples_.data() + begin;
+      batch.count = std::min(per_batch, samples_.size() - begin);
+      batch.metric = metric_;
+      batch.channels = channels_;
+      batch.loss = loss_;
+      batch.free_index = &r.free_index;
+      batch.full_values = &r.values;
+      problem.AddResidualBlock(model_.new_batch_cost(batch), nullptr, x.data());
+    }
+    const std::vector<ValueSlot> slots = value_slots(model_);
+    for (size_t k = 0; k < x.size(); ++k) {
+      const ParamSpec& p = *slots[r.free_index[k]].param;
+      problem.SetParameterLowerBound(x.data(), static_cast<int>(k), p.lower);
+      problem.SetParameterUpperBound(x.data(), static_cast<int>(k), p.upper);
+    }
+  }
+
+  // (JᵀJ)⁻¹ through Ceres' covariance. When JᵀJ is numerically singular, find which free values
+  // the data do not determine (their direction lies partly in the null space of the
+  // column-scaled JᵀJ): they are flagged rather than given a meaningless number, and the others
+  // get theirs from the pseudo-inverse.
+  void estimate_covariance(ceres::Problem& problem, std::vector<double>& x, Refinement& out) const {
+    const int n = static_cast<int>(x.size());
+    out.identifiable.assign(n, true);
+    ceres::Covariance::Options options;
+    options.algorithm_type = ceres::DENSE_SVD;
+    options.min_reciprocal_condition_number = 1e-14;
+    options.num_threads = thread_count(options_.threads);
+    const std::vector<std::pair<const double*, const double*>> blocks{{x.data(), x.data()}};
+    out.covariance.resize(n, n);
+    {
+      ceres::Covariance covariance(options);
+      if (covariance.Compute(blocks, &problem)) {
+        covariance.GetCovarianceBlock(x.data(), x.data(), out.covariance.data());
+        return;
+      }
+    }
+    flag_unidentifiable(problem, out);
+    options.null_space_rank = -1;  // pseudo-inverse: drop the null space
+    ceres::Covariance pseudo_inverse(options);
+    if (pseudo_inverse.Compute(blocks, &problem))
+      pseudo_inverse.GetCovarianceBlock(x.data(), x.data(), out.covariance.data());
+    else
+      out.covariance.resize(0, 0);
+  }
+
+  static void flag_unidentifiable(ceres::Problem& problem, Refinement& out) {
+    const int n = static_cast<int>(out.identifiable.size());
+    ceres::CRSMatrix crs;
+    problem.Evaluate(ceres::Problem::EvaluateOptions(), nullptr, nullptr, nullptr, &crs);
+    Eigen::MatrixXd jtj = Eigen::MatrixXd::Zero(n, n);
+    for (int row = 0; row < crs.num_rows; ++row)
+      for (int a = crs.rows[row]; a < crs.rows[row + 1]; ++a)
+        for (int b = crs.rows[row]; b < crs.rows[row + 1]; ++b)
+          jtj(crs.cols[a], crs.cols[b]) += crs.values[a] * crs.values[b];
+    const Eigen::VectorXd scale = jtj.diagonal().cwiseSqrt();
+    Eigen::MatrixXd scaled = Eigen::MatrixXd::Zero(n, n);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        if (scale[i] > 0 && scale[j] > 0) scaled(i, j) = jtj(i, j) / (scale[i] * scale[j]);
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(scaled);
+    const double largest = eig.eigenvalues().maxCoeff();
+    for (int i = 0; i < n; ++i) {
+      double null_weight = 0.0;
+      for (int k = 0; k < n; ++k)
+        if (eig.eigenvalues()[k] <= 1e-10 * largest) null_weight += std::pow(eig.eigenvectors()(i, k), 2);
+      // A pair of interchangeable values puts half of each in the null space, a triple a third.
+      out.identifiable[i] = scale[i] > 0 && null_weight < 0.1;
+    }
+  }
+
+  const Model& model_;
+  const std::vector<Sample>& samples_;
+  Metric metric_;
+  Channels channels_;
+  const ceres::LossFunction* loss_;
+  const FitOptions& options_;
+};
+
+// A deterministic uniform subset of the samples (all of them when there are few).
+std::vector<Sample> subsample(const std::vector<Sample>& samples, size_t count, uint64_t seed) {
+  if (samples.size() <= count) return samples;
+  std::vector<size_t> index(samples.size());
+  std::iota(index.begin(), index.end(), size_t{0});
+  std::mt19937_64 rng(seed);
+  for (size_t i = 0; i < count; ++i) std::swap(index[i], index[i + rng() % (samples.size() - i)]);
+  std::sort(index.begin(), index.begin() + count);
+  std::vector<Sample> subset;
+  subset.reserve(count);
+  for (size_t i = 0; i < count; ++i) subset.push_back(samples[index[i]]);
+  return subset;
+}
+
+// One fit of the given channels: multi-start on the subsample, then LM on every sample.
+struct ChannelFit {
+  Refinement final;
+  int iterations = 0;
+  size_t residuals = 0;
+};
+
+ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOptions& options,
+                        const Channels& channels, const std::vector<double>& initial) {
+  ChannelFit fit;
+  const std::vector<Sample> small = subsample(data.samples, options.subsample, options.seed);
+  const bool small_is_all = small.size() == data.samples.size();
+
+  std::vector<Start> starts;
+  if (options.single_start) {
+    starts.push_back({initial, 0.0});
+  } else {
+    starts = grid_starts(model, initial, small, options.metric, channels, options);
+    starts.resize(std::min<size_t>(starts.size(), std::max(1, options.starts)));
+  }
+
+  double loss_scale = options.loss_scale;
+  if (options.loss != LossKind::None && loss_scale <= 0.0) {
+    // 1.4826·MAD estimates σ; Huber's and Cauchy's usual tuning constants for 95% efficiency.
+    const double sigma = 1.4826 * median_abs_residual(model, starts[0].values, small, options.metric, channels);
+    loss_scale = std::max(sigma, 1e-12) * (options.loss == LossKind::Huber ? 1.345 : 2.385);
+  }
+  const std::unique_ptr<ceres::LossFunction> loss = make_loss(options.loss, loss_scale);
+
+  Refinement best;
+  if (!options.single_start) {
+    const LeastSquares on_subsample(model, small, options.metric, channels, loss.get(), options);
+    for (const Start& start : starts) {
+      Refinement r = on_subsample.run(start.values, small_is_all ? options.max_iterations : 50);
+      fit.iterations += r.iterations;
+      if (r.usable && r.cost < best.cost) best = std::move(r);
+    }
+    if (!best.usable) {
+      best.values = starts[0].values;
+      best.termination = "no start converged on the subsample";
+    }
+  }
+  const LeastSquares on_all(model, data.samples, options.metric, channels, loss.get(), options);
+  if (options.single_start || !small_is_all) {
+    // From the subsample's optimum a few steps suffice; 1e-8 of relative cost change is far
+    // below any metric's reported precision.
+    best = on_all.run(options.single_start ? initial : best.values, options.max_iterations, 1e-8);
+    fit.iterations += best.iterations;
+  }
+  on_all.estimate_covariance(best);
+  fit.residuals = data.size() * static_cast<size_t>(std::count(channels.begin(), channels.end(), true));
+  fit.final = std::move(best);
+  return fit;
+}
+
+bool at_bound(const ParamSpec& p, double value) {
+  const double tolerance = 1e-6 * (p.upper - p.lower);
+  return value <= p.lower + tolerance || value >= p.upper - tolerance;
+}
+
+// Fills result.parameters from one or three channel fits. stddev = √(σ² (JᵀJ)⁻¹), with
+// σ² = 2·cost/(residuals − free values) the residual variance (Ceres' cost is ½Σr²).
+void report_parameters(const Model& model, const std::vector<ChannelFit>& fits, bool per_channel,
+                       FitResult& result) {
+  const std::vector<ValueSlot> slots = value_slots(model);
+  // stddev per flattened value per fit (NaN unless estimated).
+  std::vector<std::vector<double>> stddev(fits.size(), std::vector<double>(slots.size(), NAN));
+  std::vector<std::vector<bool>> identifiable(fits.size(), std::vector<bool>(slots.size(), true));
+  for (size_t f = 0; f < fits.size(); ++f) {
+    const Refinement& r = fits[f].final;
+    const double dof = std::max<double>(1.0, static_cast<double>(fits[f].residuals) - r.free_index.size());
+    const double variance = 2.0 * r.cost / dof;
+    for (size_t k = 0; k < r.free_index.size(); ++k) {
+      const int i = r.free_index[k];
+      if (!r.identifiable.empty()) identifiable[f][i] = r.identifiable[k];
+      // A free value with no variance at all got none from the data: the pseudo-inverse
+      // dropped its direction.
+      if (r.covariance.size() && !(r.covariance(k, k) > 0.0)) identifiable[f][i] = false;
+      if (r.covariance.size() && identifiable[f][i]) stddev[f][i] = std::sqrt(variance * r.covariance(k, k));
+    }
+  }
+
+  int offset = 0;
+  for (const ParamSpec& p : model.parameters()) {
+    ParameterEstimate estimate;
+    estimate.name = p.name;
+    const int entries = (p.channels == 3 || per_channel) ? 3 : 1;
+    for (int e = 0; e < entries; ++e) {
+      // Which fit determined this entry: the channel's own fit when fitting per channel.
+      const size_t f = per_channel ? static_cast<size_t>(e) : 0;
+      const int i = offset + (p.channels == 3 ? e : 0);
+      const double value = fits[f].final.values[i];
+      estimate.value.push_back(value);
+      estimate.stddev.push_back(stddev[f][i]);
+      estimate.identifiable = estimate.identifiable && identifiable[f][i];
+      estimate.at_bound = estimate.at_bound || at_bound(p, value);
+    }
+    result.parameters.push_back(estimate);
+    offset += p.channels;
+  }
+}
+
+}  // namespace
+
+FitResult fit_model(const Model& model, const SampleSet& data, const FitOptions& options) {
+  // Ceres logs a rank-deficient covariance as an error; the fitter handles that case itself
+  // (flags the parameters), so only fatal messages are worth a user's screen.
+  FLAGS_minloglevel = google::GLOG_FATAL;
+  if (data.empty()) fail("{}: no samples to fit", data.source.empty() ? "input" : data.source);
+  for (const Sample& s : data.samples)
+    if (!s.value.allFinite() || !std::isfinite(s.weight) || s.weight < 0.0)
+      fail("{}: a sample has a non-finite value or an invalid weight", data.source.empty() ? "input" : data.source);
+
+  const auto started = std::chrono::steady_clock::now();
+  FitResult result;
+  result.model = model.name();
+  result.samples = data.size();
+  if (!options.initial_values.empty() && static_cast<int>(options.initial_values.size()) != model.num_values())
+    fail("{}: {} initial values given, the model has {}", model.name(), options.initial_values.size(), model.num_values());
+  const std::vector<double> initial = options.initial_values.empty() ? model.default_values() : options.initial_values;
+
+  std::vector<Channels> masks;
+  if (options.per_channel)
+    masks = {Channels{true, false, false}, Channels{false, true, false}, Channels{false, false, true}};
+  else
+    masks = {kAllChannels};
+
+  std::vector<ChannelFit> fits;
+  std::string failure;
+  for (const Channels& mask : masks) {
+    // Each channel fit starts from the previous one's values so its other channels are sane.
+    fits.push_back(fit_channels(model, data, options, mask, fits.empty() ? initial : fits.back().final.values));
+    if (!fits.back().final.usable && failure.empty()) failure = fits.back().final.termination;
+    result.iterations += fits.back().iterations;
+  }
+  result.termination = fits.back().final.termination;
+
+  if (options.per_channel) {
+    for (int c = 0; c < 3; ++c) {
+      // Channel c's vector: its own fit, with every channel's colour components filled in.
+      std::vector<double> values = fits[c].final.values;
+      const std::vector<ValueSlot> slots = value_slots(model);
+      for (size_t i = 0; i < slots.size(); ++i)
+        if (slots[i].param->channels == 3) values[i] = fits[slots[i].channel].final.values[i];
+      result.channel_values.push_back(values);
+    }
+    result.values = result.channel_values[0];
+  } else {
+    result.values = fits[0].final.values;
+  }
+  report_parameters(model, fits, options.per_channel, result);
+  result.metrics = evaluate_metrics(model, result.values, data, result.channel_values);
+
+  const bool finite = std::all_of(result.values.begin(), result.values.end(), [](double v) { return std::isfinite(v); }) &&
+                      std::isfinite(result.metrics.get(options.metric));
+  result.ok = failure.empty() && finite;
+  if (!result.ok) result.error = !failure.empty() ? "the fit diverged (" + failure + ")" : "the fit produced non-finite values";
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  return result;
+}
+
+std::vector<FitResult> fit_models(const std::vector<const Model*>& models, const SampleSet& data,
+                                  const FitOptions& options) {
+  std::vector<FitResult> results;
+  for (const Model* model : models) {
+    try {
+      results.push_back(fit_model(*model, data, options));
+    } catch (const Error&) {
+      throw;  // bad input or options: the same for every model
+    } catch (const std::exception& e) {
+      FitResult failed;
+      failed.model = model->name();
+      failed.error = e.what();
+      failed.samples = data.size();
+      results.push_back(failed);
+    }
+  }
+  return results;
+}
+
+Metrics evaluate_metrics(const Model& model, const std::vector<double>& values, const SampleSet& data,
+                         const std::vector<std::vector<double>>& per_channel_values) {
+  struct Sums {
+    double weight = 0, cosine = 0, log = 0, relative = 0, plain = 0, max = 0;
+    size_t count = 0;
+  };
+  const size_t chunks = 64;
+  std::vector<Sums> partial(chunks);
+  const size_t per_chunk = (data.size() + chunks - 1) / chunks;
+  parallel_for(chunks, thread_count(0), [&](size_t chunk) {
+    Sums& sums = partial[chunk];
+    const size_t end = std::min(data.size(), (chunk + 1) * per_chunk);
+    for (size_t i = chunk * per_chunk; i < end; ++i) {
+      const Sample& s = data.samples[i];
+      Rgb<double> predicted;
+      if (per_channel_values.empty()) {
+        predicted = model.shade(values.data(), s.l, s.v);
+      } else {
+        for (int c = 0; c < 3; ++c) predicted[c] = model.shade(per_channel_values[c].data(), s.l, s.v)[c];
+      }
+      for (int c = 0; c < 3; ++c) {
+        const double p = predicted[c], m = s.value[c];
+        sums.weight += s.weight;
+        sums.cosine += s.weight * std::pow(metric_residual(Metric::Cosine, p, m), 2);
+        sums.log += s.weight * std::pow(metric_residual(Metric::Log, p, m), 2);
+        sums.relative += s.weight * std::pow(metric_residual(Metric::Relative, p, m), 2);
+        sums.plain += std::pow(p - m, 2);
+        sums.max = std::max(sums.max, std::fabs(p - m));
+        ++sums.count;
+      }
+    }
+  });
+  Sums total;
+  for (const Sums& s : partial) {
+    total.weight += s.weight;
+    total.cosine += s.cosine;
+    total.log += s.log;
+    total.relative += s.relative;
+    total.plain += s.plain;
+    total.max = std::max(total.max, s.max);
+    total.count += s.count;
+  }
+  Metrics metrics;
+  if (total.count == 0) return metrics;
+  metrics.cosine = std::sqrt(total.cosine / total.weight);
+  metrics.log = std::sqrt(total.log / total.weight);
+  metrics.relative = std::sqrt(total.relative / total.weight);
+  metrics.l2 = std::sqrt(total.plain / total.count);
+  metrics.max = total.max;
+  return metrics;
+}
+
+}  // namespace brdffit

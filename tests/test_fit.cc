@@ -1,0 +1,235 @@
+// The fitter: parameter recovery for every model, multi-start, metrics on a tiny table, failures.
+#include <gtest/gtest.h>
+
+#include "brdffit/error.h"
+#include "brdffit/fit.h"
+#include "brdffit/fit_residual.h"
+#include "test_util.h"
+
+namespace brdffit {
+namespace {
+
+// Samples of `model` at `values` over random direction pairs, with multiplicative Gaussian noise.
+SampleSet synthetic(const Model& model, const std::vector<double>& values, size_t count, double noise, uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> gauss;
+  SampleSet set;
+  set.source = "synthetic " + model.name();
+  set.weighting = "uniform";
+  while (set.samples.size() < count) {
+    Sample s;
+    s.l = test::random_upper_direction(rng, 0.02);
+    s.v = test::random_upper_direction(rng, 0.02);
+    s.value = model.shade(values.data(), s.l, s.v);
+    for (int c = 0; c < 3; ++c) s.value[c] *= 1.0 + noise * gauss(rng);
+    set.samples.push_back(s);
+  }
+  return set;
+}
+
+// Values a user would plausibly fit: the middle of each range, varied per channel.
+std::vector<double> truth_for(const Model& model) {
+  std::vector<double> values;
+  for (const ParamSpec& p : model.parameters())
+    for (int c = 0; c < p.channels; ++c) {
+      const double t = 0.35 + 0.15 * c;  // distinct colours per channel
+      double x = p.spacing == Spacing::Log ? p.lower * std::pow(p.upper / p.lower, t) : p.lower + t * (p.upper - p.lower);
+      if (p.integer) x = std::round(x);
+      values.push_back(x);
+    }
+  return values;
+}
+
+TEST(Fit, RecoversKnownParametersOfEveryModel) {
+  for (const auto& m : all_models()) {
+    SCOPED_TRACE(m->name());
+    const std::vector<double> truth = truth_for(*m);
+    const SampleSet data = synthetic(*m, truth, 6000, 0.01, 3);
+    FitOptions options;
+    const FitResult fit = fit_model(*m, data, options);
+    ASSERT_TRUE(fit.ok) << fit.error;
+    int offset = 0;
+    for (const ParameterEstimate& p : fit.parameters) {
+      for (size_t c = 0; c < p.value.size(); ++c) {
+        const double expected = truth[offset + c];
+        const double tolerance = std::max(0.02 * std::abs(expected), std::isfinite(p.stddev[c]) ? 2 * p.stddev[c] : 0.0);
+        EXPECT_NEAR(p.value[c], expected, std::max(tolerance, 1e-9)) << p.name << "[" << c << "]";
+      }
+      offset += static_cast<int>(p.value.size());
+    }
+    // Noise of 1% relative: the fitted model explains the data to about that level.
+    EXPECT_LT(fit.metrics.relative, 0.03);
+  }
+}
+
+}  // namespace
+}  // namespace brdffit
+
+namespace brdffit {
+namespace {
+
+TEST(Fit, MultiStartFindsTheGlobalMinimumWhereASingleStartDoesNot) {
+  // Two GGX lobes, one sharp (roughness 0.05) and one broad (0.7), fitted by one lobe: the
+  // cost over roughness has several valleys. LM from the default roughness (0.5) settles in
+  // the broad one; the global minimum is near the sharp lobe.
+  const Model& ggx = *find_model("ggx");
+  const std::vector<double> sharp = parameter_values(ggx, {"albedo=0.05", "roughness=0.05", "f0=0.9"});
+  const std::vector<double> broad = parameter_values(ggx, {"albedo=0.05", "roughness=0.7", "f0=0.9"});
+  SampleSet data = synthetic(ggx, sharp, 20000, 0.0, 3);
+  for (Sample& s : data.samples) s.value = 0.5 * s.value + 0.5 * ggx.shade(broad.data(), s.l, s.v);
+
+  // The global minimum, independently: LM from every start of a fine scan of roughness.
+  double global = HUGE_VAL;
+  for (double r = 0.02; r < 1.0; r *= 1.1) {
+    FitOptions scan;
+    scan.single_start = true;
+    scan.initial_values = ggx.default_values();
+    scan.initial_values[ggx.offset_of("roughness")] = r;
+    global = std::min(global, fit_model(ggx, data, scan).metrics.cosine);
+  }
+  FitOptions single;
+  single.single_start = true;
+  const FitResult from_default = fit_model(ggx, data, single);
+  const FitResult multi = fit_model(ggx, data, FitOptions{});
+  ASSERT_TRUE(multi.ok) << multi.error;
+  EXPECT_NEAR(multi.metrics.cosine, global, 1e-6 * global);
+  EXPECT_GT(from_default.metrics.cosine, 3 * global) << "the default start must be caught in a local minimum";
+  EXPECT_LT(multi.values[ggx.offset_of("roughness")], 0.1);
+}
+
+TEST(Metrics, MatchHandComputedValuesOnATinyTable) {
+  // Two samples at normal light and view, measured 0.4 (weight 1) and 0.8 (weight 3).
+  const Model& lambert = *find_model("lambert");
+  const double p = 1.0 / kPi;  // albedo 1: shade = 1/π at normal incidence
+  SampleSet set;
+  set.samples.push_back({Vec3(0, 0, 1), Vec3(0, 0, 1), Rgb<double>(0.4, 0.4, 0.4), 1.0});
+  set.samples.push_back({Vec3(0, 0, 1), Vec3(0, 0, 1), Rgb<double>(0.8, 0.8, 0.8), 3.0});
+  const Metrics m = evaluate_metrics(lambert, {1.0, 1.0, 1.0}, set);
+  const double d1 = p - 0.4, d2 = p - 0.8;
+  EXPECT_NEAR(m.cosine, std::sqrt((1 * d1 * d1 + 3 * d2 * d2) / 4), 1e-12);
+  EXPECT_NEAR(m.l2, std::sqrt((d1 * d1 + d2 * d2) / 2), 1e-12);
+  const double l1 = std::log1p(p) - std::log1p(0.4), l2 = std::log1p(p) - std::log1p(0.8);
+  EXPECT_NEAR(m.log, std::sqrt((l1 * l1 + 3 * l2 * l2) / 4), 1e-12);
+  const double r1 = d1 / (0.4 + kRelativeEpsilon), r2 = d2 / (0.8 + kRelativeEpsilon);
+  EXPECT_NEAR(m.relative, std::sqrt((r1 * r1 + 3 * r2 * r2) / 4), 1e-12);
+  EXPECT_NEAR(m.max, 0.8 - p, 1e-12);
+}
+
+TEST(Fit, EveryMetricCanBeMinimised) {
+  const Model& ggx = *find_model("ggx");
+  const std::vector<double> truth = parameter_values(ggx, {"albedo=0.3,0.2,0.1", "roughness=0.4", "f0=0.05"});
+  const SampleSet data = synthetic(ggx, truth, 3000, 0.0, 9);
+  for (Metric metric : {Metric::Cosine, Metric::Log, Metric::Relative, Metric::L2}) {
+    SCOPED_TRACE(metric_name(metric));
+    FitOptions options;
+    options.metric = metric;
+    const FitResult fit = fit_model(ggx, data, options);
+    ASSERT_TRUE(fit.ok) << fit.error;
+    EXPECT_NEAR(fit.values[ggx.offset_of("roughness")], 0.4, 1e-4);
+    EXPECT_LT(fit.metrics.get(metric), 1e-6);
+  }
+}
+
+TEST(Fit, PerChannelShapeParameters) {
+  // Each channel has its own roughness: a per-channel fit recovers all three.
+  const Model& ggx = *find_model("ggx");
+  SampleSet data;
+  std::mt19937_64 rng(21);
+  const double roughness[3] = {0.2, 0.35, 0.5};
+  for (int i = 0; i < 4000; ++i) {
+    Sample s{test::random_upper_direction(rng, 0.05), test::random_upper_direction(rng, 0.05), {}, 1.0};
+    for (int c = 0; c < 3; ++c) {
+      const std::vector<double> v = parameter_values(ggx, {"albedo=0.2", "f0=0.3", fmt::format("roughness={}", roughness[c])});
+      s.value[c] = ggx.shade(v.data(), s.l, s.v)[c];
+    }
+    data.samples.push_back(s);
+  }
+  FitOptions options;
+  options.per_channel = true;
+  const FitResult fit = fit_model(ggx, data, options);
+  ASSERT_TRUE(fit.ok) << fit.error;
+  const ParameterEstimate& r = fit.parameters[1];
+  ASSERT_EQ(r.name, "roughness");
+  ASSERT_EQ(r.value.size(), 3u);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(r.value[c], roughness[c], 1e-4);
+  EXPECT_LT(fit.metrics.cosine, 1e-6);
+}
+
+TEST(Fit, UnidentifiableParameterIsFlaggedNotGivenANumber) {
+  // With the light always at normal incidence and the view fixed, GGX's albedo and f0 both
+  // only scale the same constant: neither is determined alone.
+  const Model& ggx = *find_model("ggx");
+  const std::vector<double> truth = parameter_values(ggx, {});
+  SampleSet data;
+  for (int i = 0; i < 50; ++i)
+    data.samples.push_back({Vec3(0, 0, 1), Vec3(0, 0, 1), ggx.shade(truth.data(), Vec3(0, 0, 1), Vec3(0, 0, 1)), 1.0});
+  const FitResult fit = fit_model(ggx, data, FitOptions{});
+  bool flagged = false;
+  for (const ParameterEstimate& p : fit.parameters)
+    if (!p.identifiable) {
+      flagged = true;
+      for (double s : p.stddev) EXPECT_TRUE(std::isnan(s)) << p.name;
+    }
+  EXPECT_TRUE(flagged);
+}
+
+TEST(Fit, EmptyOrNonFiniteInputIsAClearError) {
+  const Model& lambert = *find_model("lambert");
+  SampleSet empty;
+  empty.source = "empty.csv";
+  try {
+    fit_model(lambert, empty, FitOptions{});
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("empty.csv: no samples"), std::string::npos) << e.what();
+  }
+  SampleSet nan_set;
+  nan_set.source = "nan.csv";
+  nan_set.samples.push_back({Vec3(0, 0, 1), Vec3(0, 0, 1), Rgb<double>(NAN, 0, 0), 1.0});
+  EXPECT_THROW(fit_model(lambert, nan_set, FitOptions{}), Error);
+}
+
+// A model whose evaluation is NaN everywhere: its fit must fail cleanly.
+class BrokenModel final : public Model {
+ public:
+  const std::string& name() const override { return name_; }
+  const std::string& summary() const override { return name_; }
+  const std::vector<ParamSpec>& parameters() const override { return lambert().parameters(); }
+  bool has_brdf() const override { return false; }
+  bool energy_conserving() const override { return false; }
+  Rgb<double> shade(const double*, const Vec3&, const Vec3&) const override { return Rgb<double>::Constant(NAN); }
+  std::optional<Rgb<double>> brdf(const double*, const Vec3&, const Vec3&) const override { return std::nullopt; }
+  Rgb<double> shade_with_jacobian(const double* values, const Vec3& l, const Vec3& v, double* jacobian) const override {
+    std::fill_n(jacobian, 9, NAN);
+    return shade(values, l, v);
+  }
+  ceres::CostFunction* new_batch_cost(const ResidualBatch& batch) const override {
+    struct Nan final : ceres::CostFunction {
+      explicit Nan(int n) {
+        set_num_residuals(n + 1);
+        mutable_parameter_block_sizes()->push_back(n);
+      }
+      bool Evaluate(double const* const*, double*, double**) const override { return false; }
+    };
+    return new Nan(static_cast<int>(batch.free_index->size()));
+  }
+
+ private:
+  static const Model& lambert() { return *find_model("lambert"); }
+  std::string name_ = "broken";
+};
+
+TEST(Fit, AFailingModelDoesNotLoseTheOthers) {
+  const Model& lambert = *find_model("lambert");
+  const SampleSet data = synthetic(lambert, parameter_values(lambert, {"albedo=0.4"}), 500, 0.0, 1);
+  BrokenModel broken;
+  const std::vector<FitResult> results = fit_models({&broken, &lambert}, data, FitOptions{});
+  ASSERT_EQ(results.size(), 2u);
+  EXPECT_FALSE(results[0].ok);
+  EXPECT_FALSE(results[0].error.empty());
+  EXPECT_TRUE(results[1].ok) << results[1].error;
+  EXPECT_NEAR(results[1].values[0], 0.4, 1e-9);
+}
+
+}  // namespace
+}  // namespace brdffit
