@@ -1,8 +1,185 @@
-// `brdffit fit`, `score`: the fitter (issue 4).
+// `brdffit fit`: fit models to a measured table and rank them; `brdffit score`: every metric of
+// given parameters on a table, with the same sampling.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "brdffit/error.h"
+#include "brdffit/fit.h"
+#include "brdffit/io.h"
+#include "brdffit/measured.h"
+#include "brdffit/result_json.h"
 #include "commands.h"
 
 namespace brdffit::cli {
 
-void add_fit_commands(CLI::App& /*app*/) {}
+namespace {
+
+// Options every command that reads a table shares.
+struct SamplingArgs {
+  double max_angle = 90.0;
+  size_t max_samples = 0;
+  uint64_t seed = 1;
+
+  void add_to(CLI::App* command) {
+    command->add_option("--max-angle", max_angle, "Leave out samples with θi or θo above this (degrees; Ngan used 80)")
+        ->check(CLI::Range(1.0, 90.0));
+    command->add_option("--max-samples", max_samples, "Fit a deterministic random subset of this many samples (0: all)");
+    command->add_option("--seed", seed, "Seed of the subset");
+  }
+  SamplingOptions options() const { return {max_angle, max_samples, seed}; }
+};
+
+Metric metric_from(const std::string& name) {
+  const std::optional<Metric> metric = parse_metric(name);
+  if (!metric) fail("--metric: unknown metric '{}' (cosine, log, relative, l2)", name);
+  return *metric;
+}
+
+std::string format_values(const std::vector<double>& xs, const char* format) {
+  if (xs.size() == 1) return fmt::format(fmt::runtime(format), xs[0]);
+  std::string out = "[";
+  for (size_t i = 0; i < xs.size(); ++i) out += (i ? "," : "") + fmt::format(fmt::runtime(format), xs[i]);
+  return out + "]";
+}
+
+std::string format_parameter(const ParameterEstimate& p) {
+  std::string text = p.name + "=" + format_values(p.value, "{:.4g}");
+  if (!p.identifiable)
+    text += " (not identifiable)";
+  else if (std::any_of(p.stddev.begin(), p.stddev.end(), [](double s) { return std::isfinite(s); }))
+    text += "±" + format_values(p.stddev, "{:.2g}");
+  if (p.at_bound) text += " (at bound)";
+  return text;
+}
+
+void print_ranking(const std::vector<FitResult>& results, Metric metric) {
+  std::vector<const FitResult*> order;
+  for (const FitResult& r : results) order.push_back(&r);
+  std::stable_sort(order.begin(), order.end(), [metric](const FitResult* a, const FitResult* b) {
+    if (a->ok != b->ok) return a->ok;
+    return a->metrics.get(metric) < b->metrics.get(metric);
+  });
+  fmt::print("{:>4}  {:<18} {:>10} {:>10} {:>10} {:>10} {:>10} {:>6} {:>8}\n", "rank", "model", "cosine", "log",
+             "relative", "l2", "max", "iters", "seconds");
+  int rank = 0;
+  for (const FitResult* r : order) {
+    if (!r->ok) {
+      fmt::print("{:>4}  {:<18} failed: {}\n", "-", r->model, r->error);
+      continue;
+    }
+    const Metrics& m = r->metrics;
+    fmt::print("{:>4}  {:<18} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g} {:>6} {:>8.2f}\n", ++rank, r->model,
+               m.cosine, m.log, m.relative, m.l2, m.max, r->iterations, r->seconds);
+    std::string line;
+    for (const ParameterEstimate& p : r->parameters) line += (line.empty() ? "" : "  ") + format_parameter(p);
+    fmt::print("      {}\n", line);
+  }
+  fmt::print("ranked by the {} metric\n", metric_name(metric));
+}
+
+std::string csv_table(const std::vector<FitResult>& results) {
+  std::string csv = "model,status,cosine,log,relative,l2,max,iterations,seconds,parameters\n";
+  for (const FitResult& r : results) {
+    std::string params;
+    for (const ParameterEstimate& p : r.parameters)
+      params += (params.empty() ? "" : ";") + p.name + "=" + format_values(p.value, "{:.9g}");
+    const Metrics& m = r.metrics;
+    csv += fmt::format("{},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{},{:.3f},\"{}\"\n", r.model, r.ok ? "ok" : "failed",
+                       m.cosine, m.log, m.relative, m.l2, m.max, r.iterations, r.seconds, params);
+  }
+  return csv;
+}
+
+struct FitArgs {
+  std::string data;
+  std::string models = "all";
+  std::string metric = "cosine";
+  std::string loss = "none";
+  SamplingArgs sampling;
+  int threads = 0;
+  bool per_channel = false;
+  std::string out, csv;
+};
+
+LossKind loss_from(const std::string& name) {
+  if (name == "none") return LossKind::None;
+  if (name == "huber") return LossKind::Huber;
+  if (name == "cauchy") return LossKind::Cauchy;
+  fail("--loss: unknown loss '{}' (none, huber, cauchy)", name);
+}
+
+void run_fit(const FitArgs& args) {
+  FitOptions options;
+  options.metric = metric_from(args.metric);
+  options.loss = loss_from(args.loss);
+  options.per_channel = args.per_channel;
+  options.threads = args.threads;
+  options.seed = args.sampling.seed;
+  const std::vector<const Model*> models = parse_model_list(args.models);
+  const SampleSet data = load_samples(args.data, args.sampling.options());
+  if (data.empty()) fail("{}: no samples left to fit (check --max-angle)", args.data);
+  fmt::print("{}: {} samples ({} weights)\n", args.data, data.size(), data.weighting);
+
+  const std::vector<FitResult> results = fit_models(models, data, options);
+  print_ranking(results, options.metric);
+  // Outputs only once every model is done, each whole or not at all.
+  if (!args.out.empty())
+    write_file_atomic(args.out, fit_document_json(args.data, data, options, results).dump(2) + "\n");
+  if (!args.csv.empty()) write_file_atomic(args.csv, csv_table(results));
+  if (std::none_of(results.begin(), results.end(), [](const FitResult& r) { return r.ok; }))
+    fail("{}: every model failed to fit", args.data);
+}
+
+struct ScoreArgs {
+  std::string data, model;
+  std::vector<std::string> params;
+  SamplingArgs sampling;
+  bool json = false;
+};
+
+void run_score(const ScoreArgs& args) {
+  const Model* model = find_model(args.model);
+  if (!model) fail("unknown model '{}' (known: {})", args.model, model_names());
+  const std::vector<double> values = parameter_values(*model, args.params);
+  const SampleSet data = load_samples(args.data, args.sampling.options());
+  if (data.empty()) fail("{}: no samples left to score (check --max-angle)", args.data);
+  const Metrics m = evaluate_metrics(*model, values, data);
+  if (args.json) {
+    const nlohmann::json out = {
+        {"metrics", {{"cosine", m.cosine}, {"log", m.log}, {"relative", m.relative}, {"l2", m.l2}, {"max", m.max}}}};
+    fmt::print("{}\n", out.dump());
+    return;
+  }
+  fmt::print("{} on {} ({} samples)\ncosine {:.6g}  log {:.6g}  relative {:.6g}  l2 {:.6g}  max {:.6g}\n", model->name(),
+             args.data, data.size(), m.cosine, m.log, m.relative, m.l2, m.max);
+}
+
+}  // namespace
+
+void add_fit_commands(CLI::App& app) {
+  auto fit = std::make_shared<FitArgs>();
+  CLI::App* fit_cmd = app.add_subcommand("fit", "Fit models to a measured table (MERL, RGL, CSV) and rank them");
+  fit_cmd->add_option("data", fit->data, "Measured table")->required();
+  fit_cmd->add_option("--models", fit->models, "Comma-separated models, or 'all'");
+  fit_cmd->add_option("--metric", fit->metric, "What to minimise: cosine, log, relative, l2 (all are reported)");
+  fit_cmd->add_option("--loss", fit->loss, "Robust loss per sample: none, huber, cauchy");
+  fit_cmd->add_flag("--per-channel", fit->per_channel, "Fit shape parameters per colour channel");
+  fit_cmd->add_option("--threads", fit->threads, "Threads (0: every core)");
+  fit_cmd->add_option("--out", fit->out, "Write the result document (JSON)");
+  fit_cmd->add_option("--csv", fit->csv, "Write one row per model (CSV)");
+  fit->sampling.add_to(fit_cmd);
+  fit_cmd->callback([fit] { run_fit(*fit); });
+
+  auto score = std::make_shared<ScoreArgs>();
+  CLI::App* score_cmd = app.add_subcommand("score", "Every error metric of given model parameters on a table");
+  score_cmd->add_option("data", score->data, "Measured table")->required();
+  score_cmd->add_option("--model", score->model, "Model name")->required();
+  score_cmd->add_option("--param", score->params, "NAME=VALUE (colours: one value or R,G,B); repeatable");
+  score_cmd->add_flag("--json", score->json, "Print JSON");
+  score->sampling.add_to(score_cmd);
+  score_cmd->callback([score] { run_score(*score); });
+}
 
 }  // namespace brdffit::cli

@@ -1,8 +1,121 @@
-// `brdffit info`, `lookup`, `bake`: measured tables (issue 3).
+// `brdffit info`, `lookup`, `bake`: measured tables.
+#include <fmt/format.h>
+
+#include <nlohmann/json.hpp>
+
+#include "brdffit/error.h"
+#include "brdffit/measured.h"
+#include "brdffit/merl.h"
+#include "brdffit/model.h"
 #include "commands.h"
 
 namespace brdffit::cli {
 
-void add_table_commands(CLI::App& /*app*/) {}
+namespace {
+
+nlohmann::json rgb_json(const Rgb<double>& c) { return {c[0], c[1], c[2]}; }
+
+void run_info(const std::string& path, bool json) {
+  TableInfo info;
+  if (path.size() > 4 && path.compare(path.size() - 4, 4, ".csv") == 0) {
+    // A CSV has no table to evaluate; describe its samples.
+    const SampleSet set = load_samples(path, SamplingOptions{});
+    info.format = "csv";
+    info.resolution = std::to_string(set.size()) + " samples";
+    info.valid = set.size();
+    info.min = Rgb<double>::Constant(HUGE_VAL);
+    info.max = Rgb<double>::Constant(-HUGE_VAL);
+    for (const Sample& s : set.samples) {
+      info.min = info.min.cwiseMin(s.value / s.l.z());
+      info.max = info.max.cwiseMax(s.value / s.l.z());
+    }
+    info.albedo = Rgb<double>::Constant(NAN);
+  } else {
+    info = open_measured(path)->info();
+  }
+  if (json) {
+    nlohmann::json out = {{"format", info.format}, {"resolution", info.resolution}, {"valid", info.valid},
+                          {"invalid", info.invalid}, {"min", rgb_json(info.min)},     {"max", rgb_json(info.max)},
+                          {"albedo", info.albedo.allFinite() ? rgb_json(info.albedo) : nlohmann::json(nullptr)}};
+    fmt::print("{}\n", out.dump());
+    return;
+  }
+  fmt::print("{}\n  format      {}\n  resolution  {}\n  valid       {}\n  invalid     {}\n", path, info.format,
+             info.resolution, info.valid, info.invalid);
+  fmt::print("  min f       {:.6g} {:.6g} {:.6g} (1/sr)\n  max f       {:.6g} {:.6g} {:.6g} (1/sr)\n", info.min[0],
+             info.min[1], info.min[2], info.max[0], info.max[1], info.max[2]);
+  if (info.albedo.allFinite())
+    fmt::print("  albedo      {:.6g} {:.6g} {:.6g} (directional, normal incidence)\n", info.albedo[0], info.albedo[1],
+               info.albedo[2]);
+}
+
+struct LookupArgs {
+  std::string path, light, view, interp;
+  bool json = false;
+};
+
+void run_lookup(const LookupArgs& args) {
+  const Vec3 l = normalized_or_zero(parse_vec3(args.light, "--light"));
+  const Vec3 v = normalized_or_zero(parse_vec3(args.view, "--view"));
+  if (l.isZero() || v.isZero()) fail("--light and --view must be non-zero directions");
+  const std::unique_ptr<MeasuredBrdf> table = open_measured(args.path);
+  Rgb<double> f;
+  if (const auto* merl = dynamic_cast<const MerlTable*>(table.get())) {
+    if (args.interp != "nearest" && args.interp != "trilinear" && !args.interp.empty())
+      fail("--interp: '{}' is not nearest or trilinear", args.interp);
+    f = merl->lookup(l, v, args.interp == "nearest" ? Interpolation::Nearest : Interpolation::Trilinear);
+  } else {
+    if (!args.interp.empty()) fail("--interp applies to MERL tables only ({} is {})", args.path, table->info().format);
+    f = table->eval(l, v);
+  }
+  if (args.json)
+    fmt::print("{}\n", nlohmann::json({{"brdf", rgb_json(f)}}).dump());
+  else
+    fmt::print("brdf {:.9g} {:.9g} {:.9g}\n", f[0], f[1], f[2]);
+}
+
+struct BakeArgs {
+  std::string model, out;
+  std::vector<std::string> params;
+};
+
+void run_bake(const BakeArgs& args) {
+  const Model* model = find_model(args.model);
+  if (!model) fail("unknown model '{}' (known: {})", args.model, model_names());
+  const std::vector<double> values = parameter_values(*model, args.params);
+  write_merl(args.out, [&](const Vec3& l, const Vec3& v) -> Rgb<double> {
+    // Stylised models have no BRDF: tabulate their shaded value divided by cosθi.
+    if (const auto f = model->brdf(values.data(), l, v)) return *f;
+    return model->shade(values.data(), l, v) / l.z();
+  });
+  fmt::print("wrote {} ({} as a 90x90x180 MERL table)\n", args.out, model->name());
+}
+
+}  // namespace
+
+void add_table_commands(CLI::App& app) {
+  auto info_path = std::make_shared<std::string>();
+  auto info_json = std::make_shared<bool>(false);
+  CLI::App* info = app.add_subcommand("info", "Describe a measured table (MERL, RGL, CSV)");
+  info->add_option("file", *info_path, "Table")->required();
+  info->add_flag("--json", *info_json, "Print JSON");
+  info->callback([info_path, info_json] { run_info(*info_path, *info_json); });
+
+  auto lookup_args = std::make_shared<LookupArgs>();
+  CLI::App* lookup = app.add_subcommand("lookup", "The measured BRDF f (1/sr) at one light/view pair");
+  lookup->add_option("file", lookup_args->path, "Table (MERL or RGL)")->required();
+  lookup->add_option("--light", lookup_args->light, "Light direction X,Y,Z (normal is +z)")->required();
+  lookup->add_option("--view", lookup_args->view, "View direction X,Y,Z")->required();
+  lookup->add_option("--interp", lookup_args->interp, "MERL: nearest or trilinear (default)");
+  lookup->add_flag("--json", lookup_args->json, "Print JSON");
+  lookup->callback([lookup_args] { run_lookup(*lookup_args); });
+
+  auto bake_args = std::make_shared<BakeArgs>();
+  CLI::App* bake = app.add_subcommand("bake", "Write a model as a MERL table");
+  bake->add_option("model", bake_args->model, "Model name")->required();
+  bake->add_option("--param", bake_args->params, "NAME=VALUE (colours: one value or R,G,B); repeatable");
+  bake->add_option("--out", bake_args->out, "Output .binary file")->required();
+  bake->callback([bake_args] { run_bake(*bake_args); });
+}
 
 }  // namespace brdffit::cli

@@ -3,7 +3,7 @@
 # it once more with AddressSanitizer and UndefinedBehaviorSanitizer (skip with --no-sanitize).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/install-deps.sh
+BRDFFIT_WITH_CHROMIUM=1 bash scripts/install-deps.sh
 jobs=$(nproc)
 
 run_suite() {  # build-dir, extra cmake args...

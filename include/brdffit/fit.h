@@ -2,9 +2,10 @@
 //
 // For each model: a deterministic multi-start grid over the shape parameters (on a subsample),
 // with the linear colour parameters solved exactly for every grid point (variable projection);
-// Levenberg-Marquardt (Ceres, automatic derivatives, batched residuals in parallel) from the
-// best starts on the subsample, then from the best of those on all samples; integer parameters
-// are searched over their range; standard deviations from Ceres' covariance at the optimum.
+// trust-region least squares (Ceres dogleg, automatic derivatives, batched residuals in
+// parallel) from the best starts on the subsample, then on ten-times larger subsets and finally
+// on all samples; integer parameters are searched over their range; standard deviations from
+// Ceres' covariance at the optimum.
 #pragma once
 
 #include <string>
@@ -24,12 +25,12 @@ struct FitOptions {
   LossKind loss = LossKind::None;   // robust loss per sample-channel (photographs)
   double loss_scale = 0.0;          // residual scale where the robust loss bends; 0 = automatic
   int threads = 0;                  // 0 = all cores
-  int max_iterations = 100;         // Levenberg-Marquardt iterations on the full sample set
+  int max_iterations = 100;         // trust-region iterations per stage
   int grid_points = 256;            // multi-start grid size over the shape parameters (at most)
-  int starts = 3;                   // best grid points refined by LM on the subsample
+  int starts = 3;                   // best grid points refined on the subsample
   size_t subsample = 12000;         // samples used by the grid and the first refinements
   uint64_t seed = 1;                // for the subsample
-  bool single_start = false;        // LM from the initial values only (tests, comparisons)
+  bool single_start = false;        // one refinement from the initial values on all samples
   std::vector<double> initial_values;  // flattened start; empty: the model's defaults
 };
 

@@ -31,6 +31,11 @@ class MeasuredBrdf {
   virtual SampleSet samples(const SamplingOptions& options) const = 0;
 };
 
+// ∫ f(l, v) cosθl dωl over the hemisphere for a fixed v: the fraction of light from v reflected
+// (by reciprocity, also the albedo for light arriving from v). Stratified cosine-weighted
+// quadrature with 128x128 points.
+Rgb<double> directional_albedo(const MeasuredBrdf& brdf, const Vec3& v);
+
 // Opens a MERL or RGL table, choosing the reader by content and extension. Throws Error naming
 // the file and the problem.
 std::unique_ptr<MeasuredBrdf> open_measured(const std::string& path);

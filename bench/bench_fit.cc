@@ -1,0 +1,88 @@
+// Fit speed and memory: fits models to a measured table (or to synthetic samples of a model)
+// and prints wall time per model, the error, and the process's peak resident memory.
+//
+//   bench_fit TABLE [--models ggx,...|all] [--threads N]
+//   bench_fit --synthetic N [--models ...]      (N samples of ggx at fixed parameters)
+#include <sys/resource.h>
+
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <random>
+
+#include "brdffit/error.h"
+#include "brdffit/fit.h"
+#include "brdffit/measured.h"
+
+using namespace brdffit;
+
+namespace {
+
+double peak_rss_mb() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss / 1024.0;  // kilobytes on Linux
+}
+
+SampleSet synthetic_ggx(size_t count) {
+  const Model& ggx = *find_model("ggx");
+  const std::vector<double> values = parameter_values(ggx, {"albedo=0.2,0.3,0.4", "roughness=0.3", "f0=0.5,0.4,0.3"});
+  std::mt19937_64 rng(1);
+  std::normal_distribution<double> gauss;
+  SampleSet set;
+  set.source = "synthetic ggx";
+  while (set.samples.size() < count) {
+    Vec3 l(gauss(rng), gauss(rng), std::abs(gauss(rng))), v(gauss(rng), gauss(rng), std::abs(gauss(rng)));
+    l.normalize();
+    v.normalize();
+    set.samples.push_back({l, v, ggx.shade(values.data(), l, v) * (1.0 + 0.01 * gauss(rng)), 1.0});
+  }
+  return set;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"brdffit fit benchmark"};
+  std::string table, models = "ggx";
+  size_t synthetic = 0;
+  int threads = 0;
+  app.add_option("table", table, "MERL/RGL/CSV table");
+  app.add_option("--synthetic", synthetic, "Fit N synthetic ggx samples instead of a table");
+  app.add_option("--models", models, "Comma-separated models or 'all'");
+  app.add_option("--threads", threads, "Threads (0: all cores)");
+  CLI11_PARSE(app, argc, argv);
+  try {
+    const auto load_start = std::chrono::steady_clock::now();
+    const SampleSet data = synthetic ? synthetic_ggx(synthetic) : load_samples(table, SamplingOptions{});
+    const double load_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - load_start).count();
+    fmt::print("input {}: {} samples, loaded in {:.2f} s, peak memory so far {:.0f} MB\n", data.source, data.size(),
+               load_seconds, peak_rss_mb());
+    std::vector<const Model*> list;
+    if (models == "all") {
+      for (const auto& m : all_models()) list.push_back(m.get());
+    } else {
+      std::stringstream names(models);
+      for (std::string name; std::getline(names, name, ',');) {
+        const Model* m = find_model(name);
+        if (!m) fail("unknown model '{}'", name);
+        list.push_back(m);
+      }
+    }
+    double total = 0.0;
+    FitOptions options;
+    options.threads = threads;
+    for (const Model* m : list) {
+      const auto start = std::chrono::steady_clock::now();
+      const FitResult fit = fit_model(*m, data, options);
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      total += seconds;
+      fmt::print("{:<18} {:>7.3f} s  cosine {:.5g}  iterations {:>3}  {}\n", m->name(), seconds, fit.metrics.cosine,
+                 fit.iterations, fit.ok ? "ok" : fit.error);
+    }
+    fmt::print("total fit time {:.2f} s; peak memory {:.0f} MB\n", total, peak_rss_mb());
+  } catch (const Error& e) {
+    fmt::print(stderr, "bench_fit: error: {}\n", e.what());
+    return 1;
+  }
+  return 0;
+}

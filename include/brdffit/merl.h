@@ -1,0 +1,69 @@
+// MERL BRDF database tables (Matusik et al. 2003, "A Data-Driven Reflectance Model").
+//
+// File layout: three int32 dimensions (θh, θd, φd bins: 90, 90, 180; 360 φd bins also occur),
+// then float64 blocks for R, G and B, each θh-major: index = (iθh·nθd + iθd)·nφd + iφd.
+// Stored values times the channel scales 1/1500, 1.15/1500, 1.66/1500 give f in 1/sr;
+// negative values mark bins with no measurement (below the horizon, or not measured).
+// Bins: θh is indexed by its square root, iθh = ⌊√(θh/(π/2))·90⌋, concentrating bins at the
+// specular peak; θd uniform over [0, π/2); φd uniform over [0, π) (reciprocity makes φd and
+// φd+π the same bin) or over [0, 2π) for 360 bins.
+#pragma once
+
+#include <array>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "brdffit/measured.h"
+#include "brdffit/rusinkiewicz.h"
+
+namespace brdffit {
+
+enum class Interpolation { Nearest, Trilinear };
+
+class MerlTable final : public MeasuredBrdf {
+ public:
+  static constexpr double kScale[3] = {1.0 / 1500.0, 1.15 / 1500.0, 1.66 / 1500.0};
+
+  // Reads a file; throws Error naming the file and the problem.
+  static MerlTable read(const std::string& path);
+  // Parses the bytes of a file called `name` (for messages).
+  static MerlTable parse(const std::string& bytes, const std::string& name);
+
+  const std::string& path() const override { return path_; }
+  TableInfo info() const override;
+  Rgb<double> eval(const Vec3& l, const Vec3& v) const override { return lookup(l, v, Interpolation::Trilinear); }
+  SampleSet samples(const SamplingOptions& options) const override;
+
+  Rgb<double> lookup(const Vec3& l, const Vec3& v, Interpolation interpolation) const;
+
+  int theta_h_bins() const { return dims_[0]; }
+  int theta_d_bins() const { return dims_[1]; }
+  int phi_d_bins() const { return dims_[2]; }
+  size_t bins() const { return static_cast<size_t>(dims_[0]) * dims_[1] * dims_[2]; }
+  // The stored (unscaled) value of channel c in a bin.
+  double raw(int channel, size_t bin) const { return raw_[channel * bins() + bin]; }
+  size_t bin_index(int i_theta_h, int i_theta_d, int i_phi_d) const {
+    return (static_cast<size_t>(i_theta_h) * dims_[1] + i_theta_d) * dims_[2] + i_phi_d;
+  }
+  // The table's bins (centres and weights).
+  HalfDiffGrid grid() const;
+
+ private:
+  MerlTable() = default;
+  bool valid(size_t bin) const;
+  // Continuous bin coordinates of a direction pair (bin centres at integers).
+  std::array<double, 3> coordinates(const Vec3& l, const Vec3& v) const;
+
+  std::string path_;
+  std::array<int, 3> dims_{};
+  std::vector<double> raw_;  // R, G, B blocks as stored
+  size_t invalid_ = 0;
+};
+
+// Writes a MERL table of f(l, v) (1/sr) at every bin centre, atomically; bins whose centre
+// lies below the horizon get -1 as in MERL files.
+void write_merl(const std::string& path, const std::function<Rgb<double>(const Vec3& l, const Vec3& v)>& brdf,
+                int phi_d_bins = 180);
+
+}  // namespace brdffit

@@ -1,0 +1,75 @@
+// Rusinkiewicz's half/difference parameterisation of a pair of directions (1998), as used by
+// the MERL BRDF database: h = normalize(l + v) gives (θh, φh); the difference vector d is l
+// expressed in a frame where h is the pole: d = Ry(-θh)·Rz(-φh)·l, giving (θd, φd).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include "brdffit/math.h"
+
+namespace brdffit {
+
+struct HalfDiff {
+  double theta_h = 0, phi_h = 0, theta_d = 0, phi_d = 0;
+};
+
+inline Vec3 rotate_z(const Vec3& d, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  return {c * d.x() - s * d.y(), s * d.x() + c * d.y(), d.z()};
+}
+
+inline Vec3 rotate_y(const Vec3& d, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  return {c * d.x() + s * d.z(), d.y(), -s * d.x() + c * d.z()};
+}
+
+// (l, v) unit directions in the local frame → half/difference angles.
+inline HalfDiff to_half_diff(const Vec3& l, const Vec3& v) {
+  const Vec3 h = half_vector(l, v);
+  HalfDiff a;
+  a.theta_h = std::acos(std::clamp(h.z(), -1.0, 1.0));
+  a.phi_h = std::atan2(h.y(), h.x());
+  const Vec3 d = rotate_y(rotate_z(l, -a.phi_h), -a.theta_h);
+  a.theta_d = std::acos(std::clamp(d.z(), -1.0, 1.0));
+  a.phi_d = std::atan2(d.y(), d.x());
+  return a;
+}
+
+// Half/difference angles → (l, v): the inverse of to_half_diff.
+inline void from_half_diff(const HalfDiff& a, Vec3& l, Vec3& v) {
+  const Vec3 d(std::sin(a.theta_d) * std::cos(a.phi_d), std::sin(a.theta_d) * std::sin(a.phi_d), std::cos(a.theta_d));
+  l = rotate_z(rotate_y(d, a.theta_h), a.phi_h);
+  const Vec3 h(std::sin(a.theta_h) * std::cos(a.phi_h), std::sin(a.theta_h) * std::sin(a.phi_h), std::cos(a.theta_h));
+  v = 2.0 * l.dot(h) * h - l;
+}
+
+// A regular grid over (θh, θd, φd) as MERL tables use it: θh bins uniform in √(θh/(π/2)),
+// concentrating bins near the specular peak; θd uniform over [0, π/2); φd uniform over
+// [0, period) (period π when reciprocity folds φd+π onto φd, 2π otherwise).
+struct HalfDiffGrid {
+  int theta_h_bins = 90, theta_d_bins = 90, phi_d_bins = 180;
+  double phi_d_period = kPi;
+
+  HalfDiff centre(int i_theta_h, int i_theta_d, int i_phi_d) const {
+    HalfDiff a;
+    const double u = (i_theta_h + 0.5) / theta_h_bins;
+    a.theta_h = u * u * (kPi / 2);
+    a.theta_d = (i_theta_d + 0.5) / theta_d_bins * (kPi / 2);
+    a.phi_d = (i_phi_d + 0.5) / phi_d_bins * phi_d_period;
+    return a;
+  }
+
+  // The measure of direction pairs a bin covers: dωi·dωo = 4 cosθd sinθd sinθh dθh dθd dφd dφh,
+  // at the bin centre, times the bin's extent, with φh integrated over 2π (isotropy).
+  double weight(int i_theta_h, int i_theta_d, int i_phi_d) const {
+    const HalfDiff a = centre(i_theta_h, i_theta_d, i_phi_d);
+    const double u0 = double(i_theta_h) / theta_h_bins, u1 = double(i_theta_h + 1) / theta_h_bins;
+    const double d_theta_h = (u1 * u1 - u0 * u0) * (kPi / 2);
+    const double d_theta_d = (kPi / 2) / theta_d_bins, d_phi_d = phi_d_period / phi_d_bins;
+    return 4 * std::cos(a.theta_d) * std::sin(a.theta_d) * std::sin(a.theta_h) * d_theta_h * d_theta_d * d_phi_d *
+           2 * kPi;
+  }
+};
+
+}  // namespace brdffit

@@ -1,0 +1,235 @@
+#include "brdffit/rgl.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "brdffit/error.h"
+#include "brdffit/io.h"
+#include "brdffit/rusinkiewicz.h"
+#include "brdffit/tensor_file.h"
+
+namespace brdffit {
+
+namespace {
+
+double theta_to_u(double theta) { return std::sqrt(std::max(theta, 0.0) * (2.0 / kPi)); }
+double phi_to_u(double phi) { return (phi + kPi) / (2.0 * kPi); }
+
+// acos(d.z) without its loss of precision near the pole.
+double elevation(const Vec3& d) {
+  return 2.0 * std::asin(std::min(1.0, 0.5 * std::sqrt(d.x() * d.x() + d.y() * d.y() + (d.z() - 1) * (d.z() - 1))));
+}
+
+// The index i in [0, n-2] of the interval [values[i], values[i+1]] holding x (clamped).
+size_t find_interval(const std::vector<float>& values, double x) {
+  const auto upper = std::upper_bound(values.begin() + 1, values.end() - 1, x);
+  return static_cast<size_t>(upper - values.begin()) - 1;
+}
+
+}  // namespace
+
+ParametricGrid2D::ParametricGrid2D(int nx, int ny, std::vector<float> data, std::vector<std::vector<float>> axes,
+                                   bool normalise)
+    : nx_(nx), ny_(ny), axes_(std::move(axes)), data_(data.begin(), data.end()) {
+  if (!normalise) return;
+  const size_t slice_size = size_t(nx) * ny, slices = data_.size() / slice_size;
+  conditional_cdf_.assign(data_.size(), 0.0);
+  marginal_cdf_.assign(slices * ny, 0.0);
+  for (size_t s = 0; s < slices; ++s) {
+    double* d = &data_[s * slice_size];
+    double* conditional = &conditional_cdf_[s * slice_size];
+    double* marginal = &marginal_cdf_[s * ny];
+    // Trapezoidal integrals of the bilinear density: along x per row, then the row totals along y.
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x + 1 < nx; ++x)
+        conditional[y * nx + x + 1] = conditional[y * nx + x] + 0.5 * (d[y * nx + x] + d[y * nx + x + 1]);
+    for (int y = 0; y + 1 < ny; ++y)
+      marginal[y + 1] = marginal[y] + 0.5 * (conditional[y * nx + nx - 1] + conditional[(y + 1) * nx + nx - 1]);
+    const double total = marginal[ny - 1];
+    const double scale = total > 0.0 ? 1.0 / total : 0.0;
+    for (size_t i = 0; i < slice_size; ++i) {
+      d[i] *= scale;
+      conditional[i] *= scale;
+    }
+    for (int y = 0; y < ny; ++y) marginal[y] *= scale;
+  }
+}
+
+ParametricGrid2D::SliceBlend ParametricGrid2D::blend(const double* params) const {
+  SliceBlend b;
+  b.count = 1;
+  b.slice[0] = 0;
+  b.weight[0] = 1.0;
+  for (const std::vector<float>& axis : axes_) {
+    // Slices are row-major over the parameters: each axis multiplies the slice index.
+    size_t index = 0;
+    double t = 0.0;
+    if (axis.size() > 1) {
+      index = find_interval(axis, params[&axis - axes_.data()]);
+      t = std::clamp((params[&axis - axes_.data()] - axis[index]) / (axis[index + 1] - axis[index]), 0.0, 1.0);
+    }
+    const int n = b.count;
+    for (int k = 0; k < n; ++k) {
+      b.slice[k] = b.slice[k] * axis.size() + index;
+      if (axis.size() > 1) {
+        b.slice[n + k] = b.slice[k] + 1;
+        b.weight[n + k] = b.weight[k] * t;
+        b.weight[k] *= 1.0 - t;
+      }
+    }
+    if (axis.size() > 1) b.count *= 2;
+  }
+  return b;
+}
+
+double ParametricGrid2D::at(const std::vector<double>& table, const SliceBlend& b, size_t slice_size, size_t index) {
+  double value = 0.0;
+  for (int k = 0; k < b.count; ++k) value += b.weight[k] * table[b.slice[k] * slice_size + index];
+  return value;
+}
+
+double ParametricGrid2D::eval(double ux, double uy, const double* params) const {
+  const SliceBlend b = blend(params);
+  const double px = ux * (nx_ - 1), py = uy * (ny_ - 1);
+  const int x = std::clamp(static_cast<int>(px), 0, nx_ - 2), y = std::clamp(static_cast<int>(py), 0, ny_ - 2);
+  const double wx = px - x, wy = py - y;
+  const size_t slice_size = size_t(nx_) * ny_, i = size_t(y) * nx_ + x;
+  return (1 - wy) * ((1 - wx) * at(data_, b, slice_size, i) + wx * at(data_, b, slice_size, i + 1)) +
+         wy * ((1 - wx) * at(data_, b, slice_size, i + nx_) + wx * at(data_, b, slice_size, i + nx_ + 1));
+}
+
+std::array<double, 2> ParametricGrid2D::invert(double ux, double uy, const double* params) const {
+  const SliceBlend b = blend(params);
+  const size_t slice_size = size_t(nx_) * ny_;
+  double sx = ux * (nx_ - 1), sy = uy * (ny_ - 1);
+  const int x = std::clamp(static_cast<int>(sx), 0, nx_ - 2), y = std::clamp(static_cast<int>(sy), 0, ny_ - 2);
+  sx -= x;
+  sy -= y;
+  const size_t i = size_t(y) * nx_ + x;
+  const double v00 = at(data_, b, slice_size, i), v10 = at(data_, b, slice_size, i + 1);
+  const double v01 = at(data_, b, slice_size, i + nx_), v11 = at(data_, b, slice_size, i + nx_ + 1);
+  // x: the conditional CDF of the row (interpolated between the patch's two rows) at sx,
+  // integrating the bilinear density across the patch, over the row's total.
+  const double c0 = (1 - sy) * v00 + sy * v01, c1 = (1 - sy) * v10 + sy * v11;
+  double cdf_x = sx * (c0 + 0.5 * sx * (c1 - c0));
+  cdf_x += (1 - sy) * at(conditional_cdf_, b, slice_size, i) + sy * at(conditional_cdf_, b, slice_size, i + nx_);
+  const size_t row_end = size_t(y) * nx_ + nx_ - 1;
+  const double r0 = at(conditional_cdf_, b, slice_size, row_end), r1 = at(conditional_cdf_, b, slice_size, row_end + nx_);
+  const double row_total = (1 - sy) * r0 + sy * r1;
+  // y: the marginal CDF at the patch's row plus the integral across the patch.
+  double cdf_y = sy * (r0 + 0.5 * sy * (r1 - r0));
+  cdf_y += at(marginal_cdf_, b, ny_, y);
+  return {row_total > 0.0 ? cdf_x / row_total : 0.0, cdf_y};
+}
+
+RglBrdf RglBrdf::read(const std::string& path) { return parse(read_file(path), path); }
+
+RglBrdf RglBrdf::parse(const std::string& bytes, const std::string& name) {
+  using Type = TensorFile::Type;
+  const TensorFile file = TensorFile::parse(bytes, name);
+  const auto& theta_i = file.field("theta_i", Type::Float32, 1);
+  const auto& phi_i = file.field("phi_i", Type::Float32, 1);
+  const auto& ndf = file.field("ndf", Type::Float32, 2);
+  const auto& sigma = file.field("sigma", Type::Float32, 2);
+  const auto& vndf = file.field("vndf", Type::Float32, 4);
+  const auto& rgb = file.field("rgb", Type::Float32, 5);
+  const auto& description = file.field("description", Type::UInt8, 1);
+  file.field("jacobian", Type::UInt8, 1);
+
+  const uint64_t n_phi = phi_i.shape[0], n_theta = theta_i.shape[0];
+  auto check = [&](bool ok, const char* what) {
+    if (!ok) fail("{}: inconsistent RGL file: {}", name, what);
+  };
+  check(n_phi >= 1 && n_theta >= 2, "phi_i needs at least 1 value and theta_i at least 2");
+  check(ndf.shape[0] >= 2 && ndf.shape[1] >= 2 && sigma.shape[0] >= 2 && sigma.shape[1] >= 2,
+        "ndf and sigma need at least 2x2 values");
+  check(vndf.shape[0] == n_phi && vndf.shape[1] == n_theta && vndf.shape[2] >= 2 && vndf.shape[3] >= 2,
+        "vndf must be [phi_i, theta_i, >=2, >=2]");
+  check(rgb.shape[0] == n_phi && rgb.shape[1] == n_theta && rgb.shape[2] == 3 && rgb.shape[3] >= 2 &&
+            rgb.shape[4] >= 2,
+        "rgb must be [phi_i, theta_i, 3, >=2, >=2]");
+  for (const auto* f : {&theta_i, &phi_i, &ndf, &sigma, &vndf, &rgb}) {
+    const std::vector<float> values = f->floats();
+    const auto bad = std::count_if(values.begin(), values.end(), [](float x) { return !std::isfinite(x); });
+    if (bad) fail("{}: {} NaN or infinite values in the tables", name, bad);
+  }
+  const std::vector<float> theta_axis = theta_i.floats(), phi_axis = phi_i.floats();
+  check(std::is_sorted(theta_axis.begin(), theta_axis.end()) && std::is_sorted(phi_axis.begin(), phi_axis.end()),
+        "theta_i and phi_i must be ascending");
+
+  RglBrdf brdf;
+  brdf.path_ = name;
+  brdf.description_.assign(description.bytes.begin(), description.bytes.end());
+  brdf.isotropic_ = n_phi <= 2;
+  if (!brdf.isotropic_ && std::lround(2 * kPi / (phi_axis.back() - phi_axis.front())) != 1)
+    fail("{}: anisotropic RGL file whose φi grid covers less than 2π (symmetry reduction) is not supported", name);
+  brdf.incident_resolution_ = {n_phi, n_theta};
+  brdf.rgb_resolution_ = {static_cast<int>(rgb.shape[4]), static_cast<int>(rgb.shape[3])};
+  brdf.ndf_ = ParametricGrid2D(int(ndf.shape[1]), int(ndf.shape[0]), ndf.floats(), {}, false);
+  brdf.sigma_ = ParametricGrid2D(int(sigma.shape[1]), int(sigma.shape[0]), sigma.floats(), {}, false);
+  brdf.vndf_ = ParametricGrid2D(int(vndf.shape[3]), int(vndf.shape[2]), vndf.floats(), {phi_axis, theta_axis}, true);
+  brdf.rgb_ = ParametricGrid2D(int(rgb.shape[4]), int(rgb.shape[3]), rgb.floats(), {phi_axis, theta_axis, {0, 1, 2}},
+                               false);
+  return brdf;
+}
+
+Rgb<double> RglBrdf::eval(const Vec3& l, const Vec3& v) const {
+  if (l.z() <= 0.0 || v.z() <= 0.0) return Rgb<double>::Zero();
+  const Vec3 wi = l.normalized(), wo = v.normalized(), wm = (wi + wo).normalized();
+  const double theta_i = elevation(wi), phi_i = std::atan2(wi.y(), wi.x());
+  const double theta_m = elevation(wm), phi_m = std::atan2(wm.y(), wm.x());
+  const double um_x = theta_to_u(theta_m);
+  double um_y = phi_to_u(isotropic_ ? phi_m - phi_i : phi_m);
+  um_y -= std::floor(um_y);
+  const double params[3] = {phi_i, theta_i, 0.0};
+  const std::array<double, 2> sample = vndf_.invert(um_x, um_y, params);
+  const double scale =
+      ndf_.eval(um_x, um_y, nullptr) / (4.0 * sigma_.eval(theta_to_u(theta_i), phi_to_u(phi_i), nullptr));
+  Rgb<double> f;
+  for (int c = 0; c < 3; ++c) {
+    const double channel_params[3] = {phi_i, theta_i, double(c)};
+    f[c] = std::max(0.0, rgb_.eval(sample[0], sample[1], channel_params)) * scale;
+  }
+  return f;
+}
+
+SampleSet RglBrdf::samples(const SamplingOptions& options) const {
+  const HalfDiffGrid grid{64, 64, 90, kPi};
+  SampleSet set;
+  set.source = path_;
+  set.weighting = "solid-angle";
+  for (int ih = 0; ih < grid.theta_h_bins; ++ih)
+    for (int id = 0; id < grid.theta_d_bins; ++id)
+      for (int ip = 0; ip < grid.phi_d_bins; ++ip) {
+        Sample s;
+        from_half_diff(grid.centre(ih, id, ip), s.l, s.v);
+        if (s.l.z() <= 0.0 || s.v.z() <= 0.0) continue;
+        s.value = eval(s.l, s.v) * s.l.z();
+        s.weight = grid.weight(ih, id, ip);
+        set.samples.push_back(s);
+      }
+  apply_sampling_options(set, options);
+  return set;
+}
+
+TableInfo RglBrdf::info() const {
+  TableInfo info;
+  info.format = "rgl";
+  info.resolution = std::to_string(incident_resolution_[0]) + "x" + std::to_string(incident_resolution_[1]) + "x" +
+                    std::to_string(rgb_resolution_[1]) + "x" + std::to_string(rgb_resolution_[0]) +
+                    (isotropic_ ? " (isotropic)" : " (anisotropic)");
+  info.valid = incident_resolution_[0] * incident_resolution_[1] * rgb_resolution_[0] * rgb_resolution_[1];
+  // The range over the fitting grid: the tables themselves hold warped, unnormalised values.
+  const SampleSet grid = samples(SamplingOptions{});
+  info.min = Rgb<double>::Constant(HUGE_VAL);
+  info.max = Rgb<double>::Constant(-HUGE_VAL);
+  for (const Sample& s : grid.samples) {
+    const Rgb<double> f = s.value / s.l.z();
+    info.min = info.min.cwiseMin(f);
+    info.max = info.max.cwiseMax(f);
+  }
+  info.albedo = directional_albedo(*this, Vec3(0, 0, 1));
+  return info;
+}
+
+}  // namespace brdffit
