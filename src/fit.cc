@@ -2,7 +2,6 @@
 #include "brdffit/fit.h"
 
 #include <ceres/ceres.h>
-#include <glog/logging.h>
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -251,7 +250,7 @@ std::vector<Start> grid_starts(const Model& model, const std::vector<double>& in
 }
 
 // ---------------------------------------------------------------------------------------------
-// Levenberg-Marquardt with Ceres.
+// Trust-region least squares with Ceres.
 
 struct Refinement {
   std::vector<double> values;
@@ -298,7 +297,7 @@ class LeastSquares {
     solver.parameter_tolerance = 1e-10;
     solver.num_threads = thread_count(options_.threads);
     // With bounds, Ceres follows each trust-region step with a projected line search that
-    // costs two more Jacobian evaluations per iteration; the projected LM step alone converges.
+    // costs two more Jacobian evaluations per iteration; the projected trust-region step alone converges.
     solver.max_num_line_search_step_size_iterations = 0;
     solver.logging_type = ceres::SILENT;
     ceres::Solver::Summary summary;
@@ -324,7 +323,7 @@ class LeastSquares {
   }
 
  private:
-  // Values LM optimises: all but integer parameters and the colour components of channels
+  // Values the solver optimises: all but integer parameters and the colour components of channels
   // this fit leaves alone.
   std::vector<int> free_values() const {
     std::vector<int> free;
@@ -361,37 +360,13 @@ class LeastSquares {
     }
   }
 
-  // (JᵀJ)⁻¹ through Ceres' covariance. When JᵀJ is numerically singular, find which free values
-  // the data do not determine (their direction lies partly in the null space of the
-  // column-scaled JᵀJ): they are flagged rather than given a meaningless number, and the others
-  // get theirs from the pseudo-inverse.
-  void estimate_covariance(ceres::Problem& problem, std::vector<double>& x, Refinement& out) const {
+  // The covariance (JᵀJ)⁺ of the free values from the Jacobian Ceres evaluates at the
+  // optimum. Values the data do not determine (their direction lies partly in the numerical
+  // null space of the column-scaled JᵀJ, e.g. two parameters that only matter through their
+  // ratio) are flagged rather than given a meaningless number; the others get theirs from the
+  // pseudo-inverse, which drops that null space.
+  static void estimate_covariance(ceres::Problem& problem, std::vector<double>& x, Refinement& out) {
     const int n = static_cast<int>(x.size());
-    out.identifiable.assign(n, true);
-    ceres::Covariance::Options options;
-    options.algorithm_type = ceres::DENSE_SVD;
-    options.min_reciprocal_condition_number = 1e-14;
-    options.num_threads = thread_count(options_.threads);
-    const std::vector<std::pair<const double*, const double*>> blocks{{x.data(), x.data()}};
-    out.covariance.resize(n, n);
-    {
-      ceres::Covariance covariance(options);
-      if (covariance.Compute(blocks, &problem)) {
-        covariance.GetCovarianceBlock(x.data(), x.data(), out.covariance.data());
-        return;
-      }
-    }
-    flag_unidentifiable(problem, out);
-    options.null_space_rank = -1;  // pseudo-inverse: drop the null space
-    ceres::Covariance pseudo_inverse(options);
-    if (pseudo_inverse.Compute(blocks, &problem))
-      pseudo_inverse.GetCovarianceBlock(x.data(), x.data(), out.covariance.data());
-    else
-      out.covariance.resize(0, 0);
-  }
-
-  static void flag_unidentifiable(ceres::Problem& problem, Refinement& out) {
-    const int n = static_cast<int>(out.identifiable.size());
     ceres::CRSMatrix crs;
     problem.Evaluate(ceres::Problem::EvaluateOptions(), nullptr, nullptr, nullptr, &crs);
     Eigen::MatrixXd jtj = Eigen::MatrixXd::Zero(n, n);
@@ -399,20 +374,26 @@ class LeastSquares {
       for (int a = crs.rows[row]; a < crs.rows[row + 1]; ++a)
         for (int b = crs.rows[row]; b < crs.rows[row + 1]; ++b)
           jtj(crs.cols[a], crs.cols[b]) += crs.values[a] * crs.values[b];
+    // Scaling to unit diagonal makes "small" mean the same for an albedo and an exponent.
     const Eigen::VectorXd scale = jtj.diagonal().cwiseSqrt();
-    Eigen::MatrixXd scaled = Eigen::MatrixXd::Zero(n, n);
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < n; ++j)
-        if (scale[i] > 0 && scale[j] > 0) scaled(i, j) = jtj(i, j) / (scale[i] * scale[j]);
+    Eigen::VectorXd inverse_scale(n);
+    for (int i = 0; i < n; ++i) inverse_scale[i] = scale[i] > 0 ? 1.0 / scale[i] : 0.0;
+    const Eigen::MatrixXd scaled = inverse_scale.asDiagonal() * jtj * inverse_scale.asDiagonal();
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(scaled);
-    const double largest = eig.eigenvalues().maxCoeff();
-    for (int i = 0; i < n; ++i) {
-      double null_weight = 0.0;
-      for (int k = 0; k < n; ++k)
-        if (eig.eigenvalues()[k] <= 1e-10 * largest) null_weight += std::pow(eig.eigenvectors()(i, k), 2);
-      // A pair of interchangeable values puts half of each in the null space, a triple a third.
-      out.identifiable[i] = scale[i] > 0 && null_weight < 0.1;
+    const double largest = std::max(eig.eigenvalues().maxCoeff(), 1e-300);
+    Eigen::MatrixXd pseudo_inverse = Eigen::MatrixXd::Zero(n, n);
+    Eigen::VectorXd null_weight = Eigen::VectorXd::Zero(n);
+    for (int k = 0; k < n; ++k) {
+      const Eigen::VectorXd u = eig.eigenvectors().col(k);
+      if (eig.eigenvalues()[k] > 1e-9 * largest)
+        pseudo_inverse += u * u.transpose() / eig.eigenvalues()[k];
+      else
+        null_weight += u.cwiseAbs2();
     }
+    out.covariance = inverse_scale.asDiagonal() * pseudo_inverse * inverse_scale.asDiagonal();
+    out.identifiable.resize(n);
+    // A pair of interchangeable values puts half of each in the null space, a triple a third.
+    for (int i = 0; i < n; ++i) out.identifiable[i] = scale[i] > 0 && null_weight[i] < 0.1;
   }
 
   const Model& model_;
@@ -465,7 +446,7 @@ std::vector<Sample> subsample(const std::vector<Sample>& samples, size_t count, 
   return subset;
 }
 
-// One fit of the given channels: multi-start on the subsample, then LM on every sample.
+// One fit of the given channels: multi-start on the subsample, then refinement on every sample.
 struct ChannelFit {
   Refinement final;
   int iterations = 0;
@@ -580,9 +561,6 @@ void report_parameters(const Model& model, const std::vector<ChannelFit>& fits, 
 }  // namespace
 
 FitResult fit_model(const Model& model, const SampleSet& data, const FitOptions& options) {
-  // Ceres logs a rank-deficient covariance as an error; the fitter handles that case itself
-  // (flags the parameters), so only fatal messages are worth a user's screen.
-  FLAGS_minloglevel = google::GLOG_FATAL;
   if (data.empty()) fail("{}: no samples to fit", data.source.empty() ? "input" : data.source);
   for (const Sample& s : data.samples)
     if (!s.value.allFinite() || !std::isfinite(s.weight) || s.weight < 0.0)

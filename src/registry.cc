@@ -1,7 +1,21 @@
 // The list of models. Adding a model: write include/brdffit/models/<name>.h and add one line here.
 #include "brdffit/model_adapter.h"
+#include "brdffit/models/ashikhmin_shirley.h"
+#include "brdffit/models/banded.h"
+#include "brdffit/models/beckmann.h"
+#include "brdffit/models/blinn_phong.h"
+#include "brdffit/models/cook_torrance.h"
+#include "brdffit/models/gaussian.h"
 #include "brdffit/models/ggx.h"
+#include "brdffit/models/half_lambert.h"
+#include "brdffit/models/lafortune.h"
 #include "brdffit/models/lambert.h"
+#include "brdffit/models/minnaert.h"
+#include "brdffit/models/oren_nayar.h"
+#include "brdffit/models/phong.h"
+#include "brdffit/models/toon.h"
+#include "brdffit/models/ward.h"
+#include "brdffit/models/wrap.h"
 
 namespace brdffit {
 
@@ -17,8 +31,22 @@ const std::vector<std::unique_ptr<Model>>& all_models() {
     std::vector<std::unique_ptr<Model>> list;
     // From the seeds (shared/seeds): one line per model, in the order users meet them.
     add<models::Lambert>(list);
+    add<models::HalfLambert>(list);
+    add<models::Wrap>(list);
+    add<models::Phong>(list);
+    add<models::BlinnPhong>(list);
+    add<models::Banded>(list);
+    add<models::Minnaert>(list);
+    add<models::OrenNayar>(list);
+    add<models::Gaussian>(list);
+    add<models::Beckmann>(list);
     add<models::Ggx>(list);
+    add<models::Toon>(list);
     // From the literature (Ngan et al. 2005 conventions).
+    add<models::CookTorrance>(list);
+    add<models::Ward>(list);
+    add<models::AshikhminShirley>(list);
+    add<models::Lafortune>(list);
     return list;
   }();
   return models;

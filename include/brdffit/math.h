@@ -27,6 +27,19 @@ inline Vec3 half_vector(const Vec3& l, const Vec3& v) {
 // Mirror direction of l about the normal (0,0,1): reflect(-l, n) in shader notation.
 inline Vec3 reflect_about_normal(const Vec3& l) { return Vec3(-l.x(), -l.y(), l.z()); }
 
+// The plain value of a scalar: itself for double, the value part of a ceres::Jet. For
+// quantities that are piecewise constant in a parameter (band indices), whose derivative is 0.
+inline double value_of(double x) { return x; }
+template <class J>
+auto value_of(const J& j) -> decltype(j.a) {
+  return j.a;
+}
+
+template <class T>
+T abs_value(const T& x) {
+  return x < T(0.0) ? T(-x) : x;
+}
+
 // Value-type clamps that only compare (Jet comparisons use the value part).
 template <class T>
 T max0(const T& x) {

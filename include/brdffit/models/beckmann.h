@@ -1,0 +1,36 @@
+// Beckmann microfacet distribution as a specular lobe over a Lambert base.
+//
+//   f = albedo/π + specular · exp(-tan²θh/m²) / (π m² cos⁴θh)
+//
+// Seed: 004_e79c30797da74a89.txt (brdf_beckmann), used as the specular term of a BRDF. The
+// lobe is the normalised NDF D(h) (∫ D cosθh dωh = 1) without Fresnel or shadowing, so its
+// BRDF albedo is not bounded by 1: `specular` is a plain scale.
+#pragma once
+
+#include "brdffit/models/common.h"
+
+namespace brdffit::models {
+
+struct Beckmann {
+  static constexpr const char* kName = "beckmann";
+  static constexpr const char* kSummary = "albedo/π + specular·D_Beckmann(h; m): Beckmann lobe";
+  static constexpr bool kEnergyConserving = false;
+  enum : int { kAlbedo = 0, kSpecular = 3, kM = 6, kNumValues = 7 };
+
+  static std::vector<ParamSpec> parameters() {
+    return {albedo_param(), specular_param(10.0, 0.2, "scale of the Beckmann lobe per channel"),
+            {"m", 1, 0.005, 1.5, 0.3, "Beckmann roughness: RMS slope of the microfacets", Role::Roughness, false, false,
+             Spacing::Log}};
+  }
+
+  template <class T>
+  static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
+    using std::exp;
+    const double cos2 = std::pow(half_vector(l, v).z(), 2), tan2 = (1.0 - cos2) / cos2;
+    const T m2 = p[kM] * p[kM];
+    const T lobe = exp(-tan2 / m2) / (kPi * m2 * cos2 * cos2);
+    return lambert_term(p + kAlbedo) + colour(p + kSpecular) * lobe;
+  }
+};
+
+}  // namespace brdffit::models

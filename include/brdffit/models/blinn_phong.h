@@ -1,0 +1,33 @@
+// Blinn-Phong: Lambert diffuse plus a lobe around the half vector.
+//
+//   shade = albedo · max(n·l, 0) + specular · max(n·h, 0)^gloss,   h = normalize(l + v)
+//
+// Seed: 000_45877382eab04cd5.txt (Blinn 1977 as shaders write it: no n·l on the specular term).
+// The specular term is gated to lit points (n·l > 0). Stylised: no BRDF.
+#pragma once
+
+#include "brdffit/models/common.h"
+
+namespace brdffit::models {
+
+struct BlinnPhong {
+  static constexpr const char* kName = "blinn-phong";
+  static constexpr const char* kSummary = "albedo·n·l + specular·(n·h)^gloss: Blinn-Phong shading";
+  static constexpr bool kEnergyConserving = false;
+  enum : int { kAlbedo = 0, kSpecular = 3, kGloss = 6, kNumValues = 7 };
+
+  static std::vector<ParamSpec> parameters() {
+    return {albedo_param(), specular_param(1.0, 0.2, "specular intensity per channel"),
+            {"gloss", 1, 1.0, 10000.0, 64.0, "Blinn exponent on n·h: larger is a smaller, sharper highlight",
+             Role::Exponent, false, false, Spacing::Log}};
+  }
+
+  template <class T>
+  static Rgb<T> shade(const T* p, const Vec3& l, const Vec3& v) {
+    if (l.z() <= 0.0) return Rgb<T>::Zero();
+    const T lobe = pow_pos(T(half_vector(l, v).z()), p[kGloss]);
+    return colour(p + kAlbedo) * l.z() + colour(p + kSpecular) * lobe;
+  }
+};
+
+}  // namespace brdffit::models

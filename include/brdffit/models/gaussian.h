@@ -1,0 +1,37 @@
+// Gaussian specular lobe over a Lambert base.
+//
+//   f = albedo/π + specular · 1.2·exp(-(θh/m)²),   θh = angle(n, h)
+//
+// Seed: 004_e79c30797da74a89.txt (brdf_gaussian), used as the specular term of a BRDF. The
+// lobe is not normalised (its albedo depends on m), so `specular` is a plain scale.
+#pragma once
+
+#include <cmath>
+
+#include "brdffit/models/common.h"
+
+namespace brdffit::models {
+
+struct Gaussian {
+  static constexpr const char* kName = "gaussian";
+  static constexpr const char* kSummary = "albedo/π + specular·1.2·exp(-(θh/m)²): Gaussian lobe in the half angle";
+  static constexpr bool kEnergyConserving = false;
+  enum : int { kAlbedo = 0, kSpecular = 3, kM = 6, kNumValues = 7 };
+
+  static std::vector<ParamSpec> parameters() {
+    return {albedo_param(), specular_param(10.0, 0.2, "scale of the Gaussian lobe per channel (1/sr)"),
+            {"m", 1, 0.005, 1.5, 0.3, "width of the lobe in radians of the half angle", Role::Roughness, false, false,
+             Spacing::Log}};
+  }
+
+  template <class T>
+  static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
+    using std::exp;
+    const double theta_h = std::acos(std::min(1.0, half_vector(l, v).z()));
+    const T x = theta_h / p[kM];
+    const T lobe = 1.2 * exp(-x * x);
+    return lambert_term(p + kAlbedo) + colour(p + kSpecular) * lobe;
+  }
+};
+
+}  // namespace brdffit::models

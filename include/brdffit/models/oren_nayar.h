@@ -1,0 +1,41 @@
+// Oren-Nayar rough diffuse, in the shader approximation of the seed.
+//
+//   A = 1 - 0.5·σ²/(σ²+0.33),  B = 0.17·σ²/(σ²+0.13),  C = 0.45·σ²/(σ²+0.09)
+//   s = saturate(l·v) - n·l·n·v;  s /= max(n·l, n·v) when s > 0
+//   shade = albedo · n·l · (A + albedo·B + C·s)
+//
+// Seed: 000_45877382eab04cd5.txt, term for term: its "diffuseColor·B" stands in for Oren and
+// Nayar's interreflection term, which makes the model quadratic in albedo (so albedo is not a
+// linear parameter here). σ = roughness, the slope deviation in radians. Stylised (no 1/π).
+#pragma once
+
+#include "brdffit/models/common.h"
+
+namespace brdffit::models {
+
+struct OrenNayar {
+  static constexpr const char* kName = "oren-nayar";
+  static constexpr const char* kSummary = "albedo·n·l·(A + albedo·B + C·s): Oren-Nayar rough diffuse (shader form)";
+  static constexpr bool kEnergyConserving = false;
+  enum : int { kAlbedo = 0, kRoughness = 3, kNumValues = 4 };
+
+  static std::vector<ParamSpec> parameters() {
+    ParamSpec albedo = albedo_param();
+    albedo.linear = false;  // albedo also multiplies the B term
+    return {albedo, {"roughness", 1, 0.0, 1.5, 0.3, "σ, the standard deviation of facet slopes (radians)", Role::Roughness}};
+  }
+
+  template <class T>
+  static Rgb<T> shade(const T* p, const Vec3& l, const Vec3& v) {
+    const double nl = saturate(l.z()), nv = saturate(v.z());
+    const T s2 = p[kRoughness] * p[kRoughness];
+    const T a = 1.0 - 0.5 * s2 / (s2 + 0.33), b = 0.17 * s2 / (s2 + 0.13), c = 0.45 * s2 / (s2 + 0.09);
+    double s = saturate(l.dot(v)) - nl * nv;
+    if (s > 0.0) s /= std::max(nl, nv);
+    Rgb<T> out;
+    for (int k = 0; k < 3; ++k) out[k] = p[kAlbedo + k] * nl * (a + p[kAlbedo + k] * b + c * s);
+    return out;
+  }
+};
+
+}  // namespace brdffit::models

@@ -1,0 +1,34 @@
+// Phong: Lambert diffuse plus the mirror-direction lobe.
+//
+//   shade = albedo · max(n·l, 0) + specular · max(r·v, 0)^shininess,   r = reflect(-l, n)
+//
+// Seeds: 000_45877382eab04cd5.txt and 001_e1a041759553c440.txt (Phong 1975 as shaders write it:
+// the specular term is not multiplied by n·l). brdffit gates the specular term to lit points
+// (n·l > 0), which the seeds leave to the light's attenuation. Stylised: no BRDF.
+#pragma once
+
+#include "brdffit/models/common.h"
+
+namespace brdffit::models {
+
+struct Phong {
+  static constexpr const char* kName = "phong";
+  static constexpr const char* kSummary = "albedo·n·l + specular·(r·v)^shininess: Phong shading";
+  static constexpr bool kEnergyConserving = false;
+  enum : int { kAlbedo = 0, kSpecular = 3, kShininess = 6, kNumValues = 7 };
+
+  static std::vector<ParamSpec> parameters() {
+    return {albedo_param(), specular_param(1.0, 0.2, "specular intensity per channel"),
+            {"shininess", 1, 1.0, 2000.0, 32.0, "Phong exponent: larger is a smaller, sharper highlight",
+             Role::Exponent, false, false, Spacing::Log}};
+  }
+
+  template <class T>
+  static Rgb<T> shade(const T* p, const Vec3& l, const Vec3& v) {
+    if (l.z() <= 0.0) return Rgb<T>::Zero();
+    const T lobe = pow_pos(T(reflect_about_normal(l).dot(v)), p[kShininess]);
+    return colour(p + kAlbedo) * l.z() + colour(p + kSpecular) * lobe;
+  }
+};
+
+}  // namespace brdffit::models
