@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds brdffit and runs the main job on the bundled data.
+# Installs what is missing, builds brdffit and fits every model to the bundled RGL material.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 mkdir -p build
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DBRDFFIT_BUILD_TESTS=OFF -DBRDFFIT_BUILD_BENCH=OFF > build/configure.log 2>&1 \
-  || { cat build/configure.log; exit 1; }
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release > build/configure.log 2>&1 || { cat build/configure.log; exit 1; }
 cmake --build build -j "$(nproc)" --target brdffit_cli
-./build/apps/brdffit models
-./build/apps/brdffit eval ggx --param albedo=0.6,0.3,0.2 --param roughness=0.3 --light 1,0,1 --view -1,0,1.2
+./build/apps/brdffit info data/cc_ibiza_sunset_rgb.bsdf
+./build/apps/brdffit fit data/cc_ibiza_sunset_rgb.bsdf --models all --out build/cc_ibiza_sunset.fit.json
+echo "result document: build/cc_ibiza_sunset.fit.json"
