@@ -494,7 +494,7 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
     for (size_t size = small.size() * 10; size < data.size(); size *= 10) {
       const std::vector<Sample> subset = subsample(data.samples, size, options.seed);
       const LeastSquares on_subset(model, subset, options.metric, channels, loss.get(), options);
-      Refinement r = on_subset.run(best.values, options.max_iterations, 1e-8);
+      Refinement r = on_subset.run(best.values, options.max_iterations, 1e-6);
       fit.iterations += r.iterations;
       if (r.usable) best = std::move(r);
     }
@@ -502,7 +502,7 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
   if (options.single_start || !small_is_all) {
     // From the subsets' optimum a few steps suffice; 1e-8 of relative cost change is far
     // below any metric's reported precision.
-    best = on_all.run(options.single_start ? initial : best.values, options.max_iterations, 1e-8);
+    best = on_all.run(options.single_start ? initial : best.values, options.max_iterations, 1e-6);
     fit.iterations += best.iterations;
   }
   on_all.estimate_covariance(best);
