@@ -324,19 +324,18 @@ TEST(TableCli, InfoLookupAndBake) {
   }
 }
 
-TEST(TableCli, BakeWritesWholeFilesOnly) {
-  // A failed write leaves the previous file untouched.
-  const std::string dir = temp_path("readonly");
-  fs::create_directories(dir);
-  const std::string path = dir + "/t.binary";
-  write_file_atomic(path, "previous");
-  fs::permissions(dir, fs::perms::owner_read | fs::perms::owner_exec);
-  const bool can_still_write = ::access(dir.c_str(), W_OK) == 0;  // root ignores permissions
-  const auto r = test::run_cli("bake lambert --out " + path);
-  fs::permissions(dir, fs::perms::owner_all);
-  if (can_still_write) GTEST_SKIP() << "running as a user that ignores directory permissions";
+TEST(TableCli, AFailedWriteLeavesTheExistingFileWhole) {
+  // /proc/version exists, but nothing can be created beside it (even by root): the write fails
+  // before the existing file is touched, with a message naming it.
+  const std::string before = read_file("/proc/version");
+  const auto r = test::run_cli("bake lambert --out /proc/version");
   EXPECT_NE(r.exit_code, 0);
-  EXPECT_EQ(read_file(path), "previous");
+  EXPECT_NE(r.output.find("/proc/version: cannot write"), std::string::npos) << r.output;
+  EXPECT_EQ(read_file("/proc/version"), before);
+  // A model error is reported before anything is written.
+  const std::string path = temp_path("never.binary");
+  EXPECT_NE(test::run_cli("bake ggx --param roughness=5 --out " + path).exit_code, 0);
+  EXPECT_FALSE(fs::exists(path));
 }
 
 }  // namespace
