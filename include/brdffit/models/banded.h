@@ -5,7 +5,11 @@
 // Seed: 000_45877382eab04cd5.txt. The seed's code treats _LightSteps as a band width in 0-256
 // units, but its author describes it as the number of bands, which is what users set: here
 // `steps` lit bands of equal width in n·l, each shaded at its upper edge, plus black where n·l ≤ 0.
-// steps is an integer, searched over its range by the fitter. Stylised: no BRDF.
+// With the seed's band width w = 256/steps its floor((256·n·l + w/2)/w)·w/256 rounds n·l to the
+// nearest multiple of 1/steps: steps+1 levels, with half-width bands at 0 and 1. The ceiling
+// used here gives exactly `steps` equal lit bands (levels 1/steps … 1), so steps = 1 is flat
+// lighting of every lit point. steps is an integer, searched over its range by the fitter (its
+// derivative is 0: it is read through value_of). Stylised: no BRDF.
 #pragma once
 
 #include <cmath>

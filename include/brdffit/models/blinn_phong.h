@@ -3,7 +3,8 @@
 //   shade = albedo · max(n·l, 0) + specular · max(n·h, 0)^gloss,   h = normalize(l + v)
 //
 // Seed: 000_45877382eab04cd5.txt (Blinn 1977 as shaders write it: no n·l on the specular term).
-// The specular term is gated to lit points (n·l > 0). Stylised: no BRDF.
+// The specular term is gated to lit points (n·l > 0), like phong (seed 001); seed 000 does not
+// gate it. `gloss` is the exponent on n·h (seed 000's _SpecularGloss). Stylised: no BRDF.
 #pragma once
 
 #include "brdffit/models/common.h"

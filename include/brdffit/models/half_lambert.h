@@ -5,7 +5,9 @@
 // Seed: 000_45877382eab04cd5.txt (pow(NdotL·wrapValue + (1 - wrapValue), 2)). The seed's code
 // clamps N·L to 0 first; brdffit uses the raw N·L, as Half-Life did, so the side facing away
 // from the light keeps its shading instead of a flat (1-w)². w = 0.5 is the classic half-Lambert;
-// w = 1 is (n·l)², a darker Lambert. Stylised: no BRDF.
+// w = 1 is (n·l)², a darker Lambert. Consequence of the raw n·l: for w > 0.5 the term is not
+// monotone on the back; it is 0 at n·l = -(1-w)/w and rises again to (1-2w)² at n·l = -1 (1 for
+// w = 1). Only w = 0.5 (Valve's value) is monotone over the whole sphere. Stylised: no BRDF.
 #pragma once
 
 #include "brdffit/models/common.h"

@@ -6,7 +6,11 @@
 //
 // Seed: 000_45877382eab04cd5.txt, term for term: its "diffuseColor·B" stands in for Oren and
 // Nayar's interreflection term, which makes the model quadratic in albedo (so albedo is not a
-// linear parameter here). σ = roughness, the slope deviation in radians. Stylised (no 1/π).
+// linear parameter here). σ = roughness, the slope deviation in radians. Stylised (no 1/π, and
+// the seed's quadratic albedo term is not a reflectance), so it defines shade() only, not a BRDF:
+// the reciprocity test does not apply (shade/n·l is in fact symmetric in l and v).
+// Unlit points (n·l ≤ 0) return 0 before the division by max(n·l, n·v), which is 0 when both
+// directions are below the horizon (the seed would produce 0·∞ = NaN there).
 #pragma once
 
 #include "brdffit/models/common.h"
@@ -28,6 +32,7 @@ struct OrenNayar {
   template <class T>
   static Rgb<T> shade(const T* p, const Vec3& l, const Vec3& v) {
     const double nl = saturate(l.z()), nv = saturate(v.z());
+    if (nl <= 0.0) return Rgb<T>(T(0.0), T(0.0), T(0.0));
     const T s2 = p[kRoughness] * p[kRoughness];
     const T a = 1.0 - 0.5 * s2 / (s2 + 0.33), b = 0.17 * s2 / (s2 + 0.13), c = 0.45 * s2 / (s2 + 0.09);
     double s = saturate(l.dot(v)) - nl * nv;

@@ -3,8 +3,11 @@
 //   shade = albedo · max(n·l, 0) + specular · max(r·v, 0)^shininess,   r = reflect(-l, n)
 //
 // Seeds: 000_45877382eab04cd5.txt and 001_e1a041759553c440.txt (Phong 1975 as shaders write it:
-// the specular term is not multiplied by n·l). brdffit gates the specular term to lit points
-// (n·l > 0), which the seeds leave to the light's attenuation. Stylised: no BRDF.
+// the specular term is not multiplied by n·l). The specular term is gated to lit points
+// (n·l > 0) as seed 001 does ("light on the wrong side - no specular"); seed 000 does not gate
+// it, and without the gate a light below the horizon would still give a highlight. Seed 000
+// raises r·v to _SpecularGloss/4; `shininess` is the exponent itself (seed 001's _Shininess).
+// Stylised: no BRDF.
 #pragma once
 
 #include "brdffit/models/common.h"

@@ -8,7 +8,11 @@
 // Seed: 003_154856537c4c670e.txt (the roystan.net toon shader), without its ambient colour,
 // texture and light colour; the rim colour is white. Smoothsteps make the shading flat almost
 // everywhere, so only the band edges inform a fit: the multi-start grid does the work.
-// Stylised: no BRDF.
+// n·l is clamped to 0 before the rim's pow (the seed's pow of a negative n·l is NaN in HLSL).
+// Bounds follow the tutorial's defaults: glossiness in [1, 100], default 32 (exponent 1024; the
+// exponent is glossiness², so 100 already gives 10⁴), log-spaced; rim_amount in [0, 1], default
+// 0.716; rim_threshold in [0.01, 2], default 0.1. specular is multiplied by albedo in the seed,
+// so only albedo is a linear parameter. Stylised: no BRDF.
 #pragma once
 
 #include "brdffit/models/common.h"
