@@ -23,12 +23,7 @@ void run_info(const std::string& path, bool json) {
     info.format = "csv";
     info.resolution = std::to_string(set.size()) + " samples";
     info.valid = set.size();
-    info.min = Rgb<double>::Constant(HUGE_VAL);
-    info.max = Rgb<double>::Constant(-HUGE_VAL);
-    for (const Sample& s : set.samples) {
-      info.min = info.min.cwiseMin(s.value / s.l.z());
-      info.max = info.max.cwiseMax(s.value / s.l.z());
-    }
+    for (const Sample& s : set.samples) info.include_in_range(s.value / s.l.z());
     info.albedo = Rgb<double>::Constant(NAN);
   } else {
     info = open_measured(path)->info();

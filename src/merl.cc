@@ -109,18 +109,13 @@ SampleSet MerlTable::samples(const SamplingOptions& options) const {
   set.weighting = "solid-angle";
   set.samples.reserve(bins() - invalid_);
   const HalfDiffGrid g = grid();
-  for (int ih = 0; ih < dims_[0]; ++ih)
-    for (int id = 0; id < dims_[1]; ++id)
-      for (int ip = 0; ip < dims_[2]; ++ip) {
-        const size_t bin = bin_index(ih, id, ip);
-        if (!valid(bin)) continue;
-        Sample s;
-        from_half_diff(g.centre(ih, id, ip), s.l, s.v);
-        if (s.l.z() <= 0.0 || s.v.z() <= 0.0) continue;
-        for (int c = 0; c < 3; ++c) s.value[c] = raw_[c * bins() + bin] * kScale[c] * s.l.z();
-        s.weight = g.weight(ih, id, ip);
-        set.samples.push_back(s);
-      }
+  g.for_each_bin_above_horizon([&](int ih, int id, int ip, const Vec3& l, const Vec3& v) {
+    const size_t bin = bin_index(ih, id, ip);
+    if (!valid(bin)) return;
+    Sample s{l, v, {}, g.weight(ih, id, ip)};
+    for (int c = 0; c < 3; ++c) s.value[c] = raw_[c * bins() + bin] * kScale[c] * l.z();
+    set.samples.push_back(s);
+  });
   apply_sampling_options(set, options);
   return set;
 }
@@ -131,16 +126,10 @@ TableInfo MerlTable::info() const {
   info.resolution = std::to_string(dims_[0]) + "x" + std::to_string(dims_[1]) + "x" + std::to_string(dims_[2]);
   info.invalid = invalid_;
   info.valid = bins() - invalid_;
-  info.min = Rgb<double>::Constant(HUGE_VAL);
-  info.max = Rgb<double>::Constant(-HUGE_VAL);
-  for (size_t bin = 0; bin < bins(); ++bin) {
-    if (!valid(bin)) continue;
-    for (int c = 0; c < 3; ++c) {
-      info.min[c] = std::min(info.min[c], raw_[c * bins() + bin] * kScale[c]);
-      info.max[c] = std::max(info.max[c], raw_[c * bins() + bin] * kScale[c]);
-    }
-  }
-  if (info.valid == 0) info.min = info.max = Rgb<double>::Zero();
+  for (size_t bin = 0; bin < bins(); ++bin)
+    if (valid(bin))
+      info.include_in_range(
+          Rgb<double>(raw_[bin] * kScale[0], raw_[bins() + bin] * kScale[1], raw_[2 * bins() + bin] * kScale[2]));
   info.albedo = directional_albedo(*this, Vec3(0, 0, 1));
   return info;
 }

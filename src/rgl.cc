@@ -198,16 +198,9 @@ SampleSet RglBrdf::samples(const SamplingOptions& options) const {
   SampleSet set;
   set.source = path_;
   set.weighting = "solid-angle";
-  for (int ih = 0; ih < grid.theta_h_bins; ++ih)
-    for (int id = 0; id < grid.theta_d_bins; ++id)
-      for (int ip = 0; ip < grid.phi_d_bins; ++ip) {
-        Sample s;
-        from_half_diff(grid.centre(ih, id, ip), s.l, s.v);
-        if (s.l.z() <= 0.0 || s.v.z() <= 0.0) continue;
-        s.value = eval(s.l, s.v) * s.l.z();
-        s.weight = grid.weight(ih, id, ip);
-        set.samples.push_back(s);
-      }
+  grid.for_each_bin_above_horizon([&](int ih, int id, int ip, const Vec3& l, const Vec3& v) {
+    set.samples.push_back({l, v, eval(l, v) * l.z(), grid.weight(ih, id, ip)});
+  });
   apply_sampling_options(set, options);
   return set;
 }
@@ -220,14 +213,7 @@ TableInfo RglBrdf::info() const {
                     (isotropic_ ? " (isotropic)" : " (anisotropic)");
   info.valid = incident_resolution_[0] * incident_resolution_[1] * rgb_resolution_[0] * rgb_resolution_[1];
   // The range over the fitting grid: the tables themselves hold warped, unnormalised values.
-  const SampleSet grid = samples(SamplingOptions{});
-  info.min = Rgb<double>::Constant(HUGE_VAL);
-  info.max = Rgb<double>::Constant(-HUGE_VAL);
-  for (const Sample& s : grid.samples) {
-    const Rgb<double> f = s.value / s.l.z();
-    info.min = info.min.cwiseMin(f);
-    info.max = info.max.cwiseMax(f);
-  }
+  for (const Sample& s : samples(SamplingOptions{}).samples) info.include_in_range(s.value / s.l.z());
   info.albedo = directional_albedo(*this, Vec3(0, 0, 1));
   return info;
 }

@@ -17,6 +17,16 @@ struct TableInfo {
   size_t invalid = 0;       // bins with none (negative in MERL files)
   Rgb<double> min = Rgb<double>::Zero(), max = Rgb<double>::Zero();  // over valid values of f
   Rgb<double> albedo = Rgb<double>::Zero();  // directional albedo at normal incidence
+
+  // Widens [min, max] to include a valid value (the first one sets both).
+  void include_in_range(const Rgb<double>& f) {
+    min = has_range_ ? Rgb<double>(min.cwiseMin(f)) : f;
+    max = has_range_ ? Rgb<double>(max.cwiseMax(f)) : f;
+    has_range_ = true;
+  }
+
+ private:
+  bool has_range_ = false;
 };
 
 // A measured BRDF that can be evaluated at any pair of directions.

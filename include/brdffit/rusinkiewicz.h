@@ -70,6 +70,18 @@ struct HalfDiffGrid {
     return 4 * std::cos(a.theta_d) * std::sin(a.theta_d) * std::sin(a.theta_h) * d_theta_h * d_theta_d * d_phi_d *
            2 * kPi;
   }
+
+  // Calls visit(iθh, iθd, iφd, l, v) for every bin whose centre pair lies above the horizon.
+  template <class Visit>
+  void for_each_bin_above_horizon(Visit&& visit) const {
+    for (int ih = 0; ih < theta_h_bins; ++ih)
+      for (int id = 0; id < theta_d_bins; ++id)
+        for (int ip = 0; ip < phi_d_bins; ++ip) {
+          Vec3 l, v;
+          from_half_diff(centre(ih, id, ip), l, v);
+          if (l.z() > 0.0 && v.z() > 0.0) visit(ih, id, ip, l, v);
+        }
+  }
 };
 
 }  // namespace brdffit

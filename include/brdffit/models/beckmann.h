@@ -5,8 +5,8 @@
 // Seed: 004_e79c30797da74a89.txt (brdf_beckmann), used as the specular term of a BRDF. The
 // lobe is the normalised NDF D(h) (∫ D cosθh dωh = 1) without Fresnel or shadowing, so its
 // BRDF albedo is not bounded by 1: `specular` is a plain scale. tanθh is computed from n·h
-// (tan² = (1-cos²)/cos²) rather than the seed's |n×h|/n·h, the same value; where n·h ≤ 0 (only
-// possible with a direction below the horizon) the lobe is 0 instead of the seed's 0/0.
+// (tan² = (1-cos²)/cos²) rather than the seed's |n×h|/n·h, the same value; where n·h is about 0
+// (only possible with a direction below the horizon) the lobe is 0 instead of the seed's 0/0.
 #pragma once
 
 #include "brdffit/models/common.h"
@@ -27,13 +27,7 @@ struct Beckmann {
 
   template <class T>
   static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
-    using std::exp;
-    const double nh = half_vector(l, v).z();
-    if (nh <= 0.0) return lambert_term(p + kAlbedo);
-    const double cos2 = nh * nh, tan2 = (1.0 - cos2) / cos2;
-    const T m2 = p[kM] * p[kM];
-    const T lobe = exp(-tan2 / m2) / (kPi * m2 * cos2 * cos2);
-    return lambert_term(p + kAlbedo) + colour(p + kSpecular) * lobe;
+    return lambert_term(p + kAlbedo) + colour(p + kSpecular) * beckmann_ndf(half_vector(l, v).z(), p[kM]);
   }
 };
 

@@ -21,6 +21,19 @@ Rgb<T> lambert_term(const T* albedo) {
   return Rgb<T>(albedo[0] * kInvPi, albedo[1] * kInvPi, albedo[2] * kInvPi);
 }
 
+// Beckmann's normal distribution, normalised (∫ D cosθh dωh = 1):
+//   D(h) = exp(-tan²θh/m²) / (π m² cos⁴θh).
+// Zero where n·h ≤ 1e-6: there the exponential is 0 in double precision anyway, and cos⁴θh
+// would underflow towards 0/0.
+template <class T>
+T beckmann_ndf(double cos_theta_h, const T& m) {
+  using std::exp;
+  if (cos_theta_h <= 1e-6) return T(0.0);
+  const double cos2 = cos_theta_h * cos_theta_h, tan2 = (1.0 - cos2) / cos2;
+  const T m2 = m * m;
+  return exp(-tan2 / m2) / (kPi * m2 * cos2 * cos2);
+}
+
 template <class T>
 Rgb<T> colour(const T* c) {
   return Rgb<T>(c[0], c[1], c[2]);

@@ -32,15 +32,12 @@ struct CookTorrance {
 
   template <class T>
   static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
-    using std::exp;
     Rgb<T> f = lambert_term(p + kAlbedo);
     const double nl = l.z(), nv = v.z();
     if (nl <= 0.0 || nv <= 0.0) return f;
     const Vec3 h = half_vector(l, v);
     const double nh = h.z(), lh = l.dot(h);
-    const double cos2 = nh * nh, tan2 = (1.0 - cos2) / cos2;
-    const T m2 = p[kM] * p[kM];
-    const T d = exp(-tan2 / m2) / (kPi * m2 * cos2 * cos2);
+    const T d = beckmann_ndf(nh, p[kM]);
     const double g = std::min({1.0, 2.0 * nh * nl / lh, 2.0 * nh * nv / lh});
     const T lobe = d * g * schlick_fresnel(p[kF0], lh) / (kPi * nl * nv);
     return f + colour(p + kSpecular) * lobe;

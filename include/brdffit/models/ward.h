@@ -27,13 +27,12 @@ struct Ward {
 
   template <class T>
   static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
-    using std::exp;
     Rgb<T> f = lambert_term(p + kAlbedo);
     const double nl = l.z(), nv = v.z();
     if (nl <= 0.0 || nv <= 0.0) return f;
-    const double cos2 = std::pow(half_vector(l, v).z(), 2), tan2 = (1.0 - cos2) / cos2;
-    const T a2 = p[kAlpha] * p[kAlpha];
-    const T lobe = exp(-tan2 / a2) / (4.0 * kPi * a2 * std::sqrt(nl * nv));
+    // exp(-tan²θh/α²)/(πα²) is Beckmann's D times cos⁴θh.
+    const double nh = half_vector(l, v).z();
+    const T lobe = beckmann_ndf(nh, p[kAlpha]) * std::pow(nh, 4) / (4.0 * std::sqrt(nl * nv));
     return f + colour(p + kSpecular) * lobe;
   }
 };
