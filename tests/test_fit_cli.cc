@@ -1,0 +1,95 @@
+// The fit and score commands end to end: the result document, CSV, and bad input.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "brdffit/csv_samples.h"
+#include "brdffit/io.h"
+#include "brdffit/model.h"
+#include "test_util.h"
+
+namespace brdffit {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string temp_dir() {
+  const fs::path dir = fs::temp_directory_path() / ("brdffit-fit-cli-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  return dir.string();
+}
+
+// A CSV of Ward samples at known parameters.
+std::string ward_csv(const std::string& dir) {
+  const Model& ward = *find_model("ward");
+  const std::vector<double> values = parameter_values(ward, {"albedo=0.3,0.2,0.1", "specular=0.1", "alpha=0.15"});
+  SampleSet set;
+  std::mt19937_64 rng(5);
+  for (int i = 0; i < 3000; ++i) {
+    const Vec3 l = test::random_upper_direction(rng, 0.05), v = test::random_upper_direction(rng, 0.05);
+    set.samples.push_back({l, v, ward.shade(values.data(), l, v), 1.0});
+  }
+  const std::string path = dir + "/ward.csv";
+  write_file_atomic(path, format_csv_samples(set));
+  return path;
+}
+
+TEST(FitCli, WritesTheResultDocumentAndCsv) {
+  const std::string dir = temp_dir(), data = ward_csv(dir);
+  const auto r = test::run_cli("fit " + data + " --models ward,lambert --out " + dir + "/r.json --csv " + dir + "/r.csv");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("ranked by the cosine metric"), std::string::npos);
+  const nlohmann::json doc = nlohmann::json::parse(read_file(dir + "/r.json"));
+  EXPECT_EQ(doc["schema"], 1);
+  EXPECT_EQ(doc["tool"], "brdffit " BRDFFIT_VERSION);
+  EXPECT_EQ(doc["input"]["path"], data);
+  EXPECT_EQ(doc["input"]["sha256"].get<std::string>().size(), 64u);
+  EXPECT_EQ(doc["samples"], 3000);
+  EXPECT_EQ(doc["metric"], "cosine");
+  ASSERT_EQ(doc["models"].size(), 2u);
+  const nlohmann::json& ward = doc["models"][0];
+  EXPECT_EQ(ward["model"], "ward");
+  EXPECT_EQ(ward["status"], "ok");
+  EXPECT_TRUE(ward["error"].is_null());
+  EXPECT_NEAR(ward["parameters"]["alpha"]["value"].get<double>(), 0.15, 1e-6);
+  EXPECT_NEAR(ward["parameters"]["albedo"]["value"][1].get<double>(), 0.2, 1e-6);
+  EXPECT_TRUE(ward["parameters"]["alpha"]["stddev"].is_number());
+  for (const char* metric : {"cosine", "log", "relative", "l2", "max"}) EXPECT_TRUE(ward["metrics"][metric].is_number());
+  EXPECT_LT(ward["metrics"]["cosine"].get<double>(), 1e-6);
+  EXPECT_GT(doc["models"][1]["metrics"]["cosine"].get<double>(), 1e-3);  // Lambert cannot fit Ward
+  const std::string csv = read_file(dir + "/r.csv");
+  EXPECT_EQ(csv.rfind("model,status,cosine,log,relative,l2,max,iterations,seconds,parameters\n", 0), 0u);
+  EXPECT_NE(csv.find("\nward,ok,"), std::string::npos);
+
+  // score agrees with the fitted metrics.
+  const auto score = test::run_cli("score " + data + " --model ward --param albedo=0.3,0.2,0.1 --param specular=0.1 "
+                                   "--param alpha=0.15 --json");
+  ASSERT_EQ(score.exit_code, 0) << score.output;
+  EXPECT_LT(nlohmann::json::parse(score.output)["metrics"]["cosine"].get<double>(), 1e-12);
+}
+
+TEST(FitCli, BadInputExitsNonZeroWithAClearMessageAndWritesNothing) {
+  const std::string dir = temp_dir(), data = ward_csv(dir);
+  write_file_atomic(dir + "/empty.csv", "lx,ly,lz,vx,vy,vz,r,g,b\n");
+  const std::string out = dir + "/never.json";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"fit /nonexistent/table.binary --out " + out, "/nonexistent/table.binary: cannot open"},
+      {"fit " + dir + "/empty.csv --out " + out, "empty.csv: no samples"},
+      {"fit " + data + " --models ward,nosuch --out " + out, "unknown model 'nosuch'"},
+      {"fit " + data + " --metric nosuch --out " + out, "unknown metric 'nosuch'"},
+      {"fit " + data + " --loss nosuch --out " + out, "unknown loss 'nosuch'"},
+      {"score " + data + " --model ward --param alpha=7", "alpha must lie in"},
+  };
+  for (const auto& [args, message] : cases) {
+    SCOPED_TRACE(args);
+    const auto r = test::run_cli(args);
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.output.find(message), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(out));
+  }
+}
+
+}  // namespace
+}  // namespace brdffit
