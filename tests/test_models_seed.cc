@@ -1,10 +1,11 @@
-// More hand-derived values for the ten seed models (the first set is in test_models_hand.cc),
-// chosen to pin down the decisions each header documents: raw n·l in half-lambert, the n·l
-// gate on phong/blinn-phong, the number of bands in banded, the glossiness² exponent and the
-// smoothstep interiors of toon, the non-linear albedo of oren-nayar, and the guards that keep
-// directions below the horizon finite. Directions use 3-4-5 triangles so the cosines are exact.
+// Hand-derived values for the ten seed models (Lambert and GGX are in test_models.cc), chosen
+// to pin down the decisions each header documents: raw n·l in half-lambert, the n·l gate on
+// phong/blinn-phong, the number of bands in banded, the glossiness² exponent and the smoothstep
+// interiors of toon, the non-linear albedo of oren-nayar, and the guards that keep directions
+// below or at the horizon finite. Directions use 3-4-5 triangles so the cosines are exact.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <set>
 
 #include "brdffit/model.h"
@@ -119,6 +120,8 @@ TEST(SeedMinnaert, HandValues) {
   EXPECT_NEAR(seed_shade1("minnaert", {"albedo=1", "roughness=0.5"}, kL86, Vec3(0.6, 0, -0.8)), 0.0, 1e-15);
   // Light below the horizon: n·l = 0 → 0.
   EXPECT_NEAR(seed_shade1("minnaert", {"albedo=1", "roughness=0.5"}, Vec3(0.6, 0, -0.8), kN), 0.0, 1e-15);
+  // k = 0 is Lambert's n·l: 0.48⁰ = 1 → 0.6.
+  EXPECT_NEAR(seed_shade1("minnaert", {"albedo=1", "roughness=0"}, kL86, kL68), 0.6, 1e-12);
 }
 
 TEST(SeedOrenNayar, HandValues) {
@@ -136,6 +139,8 @@ TEST(SeedOrenNayar, HandValues) {
   const double half = seed_shade1("oren-nayar", {"albedo=0.4", "roughness=0.5"}, kL68, kN);
   const double full = seed_shade1("oren-nayar", {"albedo=0.8", "roughness=0.5"}, kL68, kN);
   EXPECT_NEAR(full - 2 * half, 0.8 * (0.64 - 2 * 0.16) * b, 1e-12);
+  // σ = 0: A = 1, B = C = 0 → albedo·n·l = 0.5·0.6, whatever the directions.
+  EXPECT_NEAR(seed_shade1("oren-nayar", {"albedo=0.5", "roughness=0"}, kL86, kL68), 0.3, 1e-12);
   // Both directions below the horizon: 0, not the seed's 0·∞.
   const double below = seed_shade1("oren-nayar", {"albedo=1", "roughness=1"}, Vec3(0.6, 0, -0.8), Vec3(0.6, 0, -0.8));
   EXPECT_EQ(below, 0.0);
@@ -174,6 +179,10 @@ TEST(SeedBeckmann, HandValues) {
   // View below the horizon with h horizontal (n·h = 0): the lobe is 0, the Lambert base stays:
   // albedo/π·n·l = 0.5/π·0.8 (the seed's formula is 0/0 there).
   EXPECT_NEAR(seed_shade1("beckmann", {"albedo=0.5", "specular=1", "m=0.3"}, kL68, Vec3(0.6, 0, -0.8)), 0.4 / kPi, 1e-12);
+  // Grazing: l = (1,0,1e-100), v = (1,0,0): n·h = 5e-101 > 0, cos⁴θh underflows to 0 and
+  // exp(-tan²/m²) to 0; the lobe is 0 (not 0/0): shade = 0.5/π·1e-100.
+  EXPECT_NEAR(seed_shade1("beckmann", {"albedo=0.5", "specular=1", "m=0.3"}, Vec3(1, 0, 1e-100), Vec3(1, 0, 0)) * 1e100,
+              0.5 / kPi, 1e-12);
 }
 
 TEST(SeedToon, HandValues) {
@@ -197,6 +206,41 @@ TEST(SeedToon, HandValues) {
   // light ramp: n·l = 0.005 → smoothstep(0, 0.01, 0.005) = 0.5; v = n: rimDot 0; n·h = cos(≈44.9°)·...
   // ^1024 ≈ 0. shade = albedo·0.5.
   EXPECT_NEAR(seed_shade1("toon", {"albedo=0.6"}, Vec3(std::sqrt(1 - 0.005 * 0.005), 0, 0.005), kN), 0.3, 1e-9);
+}
+
+TEST(SeedModels, FiniteValuesAndDerivativesAtTheHorizon) {
+  // Directions at, just above and just below the horizon, where products of cosines and the
+  // smoothstep of n·l become subnormal (n·l below 1e-154) and 0/0 or log 0 lurk; parameters
+  // all at their lower bounds, all at their defaults, all at their upper bounds.
+  const std::vector<Vec3> dirs = {kN,
+                                  Vec3(1, 0, 0),
+                                  Vec3(1, 0, 1e-155),
+                                  Vec3(-1, 0, 1e-155),
+                                  Vec3(1, 0, 5e-157),
+                                  Vec3(0, 1, 1e-100),
+                                  Vec3(1, 0, 1e-300),
+                                  Vec3(1, 0, 1e-310),  // subnormal n·l
+                                  Vec3(0.6, 0, -0.8),
+                                  Vec3(1, 0, -1e-100),
+                                  kL68};
+  for (const char* name : {"half-lambert", "wrap", "phong", "blinn-phong", "banded", "minnaert", "oren-nayar", "gaussian",
+                           "beckmann", "toon"}) {
+    SCOPED_TRACE(name);
+    const Model& m = *find_model(name);
+    for (int which = 0; which < 3; ++which) {
+      std::vector<double> values;
+      for (const ParamSpec& p : m.parameters())
+        values.insert(values.end(), p.channels, which == 0 ? p.lower : which == 1 ? p.default_value : p.upper);
+      for (const Vec3& l : dirs)
+        for (const Vec3& v : dirs) {
+          std::vector<double> jac(3 * m.num_values());
+          const Rgb<double> s = m.shade_with_jacobian(values.data(), l, v, jac.data());
+          bool finite = s.allFinite();
+          for (double j : jac) finite = finite && std::isfinite(j);
+          EXPECT_TRUE(finite) << "set " << which << " l " << l.transpose() << " v " << v.transpose();
+        }
+    }
+  }
 }
 
 }  // namespace

@@ -60,6 +60,15 @@ X pow_pos(const X& x, const E& e) {
   return exp(e * log(x));
 }
 
+// base^e for a base that depends only on the directions (a plain double) and an exponent that
+// may be a Jet: the log is taken in double, so a tiny (subnormal) base cannot give the Jet a
+// 0·∞ derivative. Zero for base <= 0.
+template <class E>
+E pow_of_direction_term(double base, const E& e) {
+  using std::exp;
+  return base > 0.0 ? E(exp(e * std::log(base))) : E(0.0);
+}
+
 // Hermite smoothstep as in GLSL/HLSL: 0 below e0, 1 above e1, 3t²-2t³ between.
 template <class T, class E>
 T smoothstep(const E& e0, const E& e1, const T& x) {

@@ -34,7 +34,7 @@ struct AshikhminShirley {
     if (nl <= 0.0 || nv <= 0.0) return f;
     const Vec3 h = half_vector(l, v);
     const double lh = l.dot(h);
-    const T lobe = (p[kN] + 1.0) / (8.0 * kPi) * pow_pos(T(h.z()), p[kN]) * schlick_fresnel(p[kF0], lh) /
+    const T lobe = (p[kN] + 1.0) / (8.0 * kPi) * pow_of_direction_term(h.z(), p[kN]) * schlick_fresnel(p[kF0], lh) /
                    (lh * std::max(nl, nv));
     return f + colour(p + kSpecular) * lobe;
   }

@@ -4,7 +4,9 @@
 //
 // Seed: 000_45877382eab04cd5.txt (Blinn 1977 as shaders write it: no n·l on the specular term).
 // The specular term is gated to lit points (n·l > 0), like phong (seed 001); seed 000 does not
-// gate it. `gloss` is the exponent on n·h (seed 000's _SpecularGloss). Stylised: no BRDF.
+// gate it. `gloss` is the exponent on n·h (seed 000's _SpecularGloss). `specular` is seed 000's
+// _SpecularPower·_SpecularColor, an intensity in [0, 100] (see phong.h); gloss is in [1, 1e5]
+// (Ngan et al.'s Blinn-Phong fits of MERL reach 1.2e5). Stylised: no BRDF.
 #pragma once
 
 #include "brdffit/models/common.h"
@@ -18,15 +20,16 @@ struct BlinnPhong {
   enum : int { kAlbedo = 0, kSpecular = 3, kGloss = 6, kNumValues = 7 };
 
   static std::vector<ParamSpec> parameters() {
-    return {albedo_param(), specular_param(1.0, 0.2, "specular intensity per channel"),
-            {"gloss", 1, 1.0, 10000.0, 64.0, "Blinn exponent on n·h: larger is a smaller, sharper highlight",
+    return {albedo_param(),
+            specular_param(100.0, 0.2, "highlight intensity per channel (seed 000's _SpecularPower·_SpecularColor)"),
+            {"gloss", 1, 1.0, 100000.0, 64.0, "Blinn exponent on n·h: larger is a smaller, sharper highlight",
              Role::Exponent, false, false, Spacing::Log}};
   }
 
   template <class T>
   static Rgb<T> shade(const T* p, const Vec3& l, const Vec3& v) {
     if (l.z() <= 0.0) return Rgb<T>::Zero();
-    const T lobe = pow_pos(T(half_vector(l, v).z()), p[kGloss]);
+    const T lobe = pow_of_direction_term(half_vector(l, v).z(), p[kGloss]);
     return colour(p + kAlbedo) * l.z() + colour(p + kSpecular) * lobe;
   }
 };

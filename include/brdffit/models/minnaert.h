@@ -24,7 +24,8 @@ struct Minnaert {
   template <class T>
   static Rgb<T> shade(const T* p, const Vec3& l, const Vec3& v) {
     const double nl = std::max(l.z(), 0.0), nv = std::max(v.z(), 0.0);
-    const T term = saturate(T(nl * pow_pos(T(nl * nv), p[kRoughness])));
+    const T power = pow_of_direction_term(nl * nv, p[kRoughness]);
+    const T term = saturate(T(nl * power));
     return colour(p + kAlbedo) * term;
   }
 };

@@ -36,9 +36,11 @@ struct OrenNayar {
     const T s2 = p[kRoughness] * p[kRoughness];
     const T a = 1.0 - 0.5 * s2 / (s2 + 0.33), b = 0.17 * s2 / (s2 + 0.13), c = 0.45 * s2 / (s2 + 0.09);
     double s = saturate(l.dot(v)) - nl * nv;
-    if (s > 0.0) s /= std::max(nl, nv);
+    // n·l·s, with the seed's division by max(n·l, n·v) as the ratio n·l/max ≤ 1: dividing s
+    // first overflows when both directions are within 1e-308 of the horizon.
+    const double nl_s = s > 0.0 ? s * (nl / std::max(nl, nv)) : s * nl;
     Rgb<T> out;
-    for (int k = 0; k < 3; ++k) out[k] = p[kAlbedo + k] * nl * (a + p[kAlbedo + k] * b + c * s);
+    for (int k = 0; k < 3; ++k) out[k] = p[kAlbedo + k] * (nl * (a + p[kAlbedo + k] * b) + c * nl_s);
     return out;
   }
 };

@@ -26,6 +26,9 @@ struct Wrap {
   template <class T>
   static Rgb<T> shade(const T* p, const Vec3& l, const Vec3& /*v*/) {
     const T wrapped = saturate(T((l.z() + p[kWrap]) / (1.0 + p[kWrap])));
+    // Below 1e-300 (wrap = 0 and a subnormal n·l) the term is taken as 0: the Jet's log would
+    // overflow its derivative, and the value left out is at most (1e-300)^0.1 = 1e-30.
+    if (!(wrapped > 1e-300)) return Rgb<T>(T(0.0), T(0.0), T(0.0));
     return colour(p + kAlbedo) * pow_pos(wrapped, p[kContrast]);
   }
 };
