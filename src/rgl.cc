@@ -26,6 +26,18 @@ size_t find_interval(const std::vector<float>& values, double x) {
   return static_cast<size_t>(upper - values.begin()) - 1;
 }
 
+// A unit-square coordinate scaled to a grid of n vertices: its cell index in [0, n-2] and the
+// position inside the cell. Coordinates outside [0,1] (or NaN, from a malformed warp) clamp.
+struct CellPosition {
+  int index;
+  double t;
+};
+CellPosition cell_of(double u, int n) {
+  const double p = (u >= 0.0 ? std::min(u, 1.0) : 0.0) * (n - 1);
+  const int index = std::min(static_cast<int>(p), n - 2);
+  return {index, p - index};
+}
+
 }  // namespace
 
 ParametricGrid2D::ParametricGrid2D(int nx, int ny, std::vector<float> data, std::vector<std::vector<float>> axes,
@@ -90,9 +102,8 @@ double ParametricGrid2D::at(const std::vector<double>& table, const SliceBlend& 
 
 double ParametricGrid2D::eval(double ux, double uy, const double* params) const {
   const SliceBlend b = blend(params);
-  const double px = ux * (nx_ - 1), py = uy * (ny_ - 1);
-  const int x = std::clamp(static_cast<int>(px), 0, nx_ - 2), y = std::clamp(static_cast<int>(py), 0, ny_ - 2);
-  const double wx = px - x, wy = py - y;
+  const auto [x, wx] = cell_of(ux, nx_);
+  const auto [y, wy] = cell_of(uy, ny_);
   const size_t slice_size = size_t(nx_) * ny_, i = size_t(y) * nx_ + x;
   return (1 - wy) * ((1 - wx) * at(data_, b, slice_size, i) + wx * at(data_, b, slice_size, i + 1)) +
          wy * ((1 - wx) * at(data_, b, slice_size, i + nx_) + wx * at(data_, b, slice_size, i + nx_ + 1));
@@ -101,10 +112,8 @@ double ParametricGrid2D::eval(double ux, double uy, const double* params) const 
 std::array<double, 2> ParametricGrid2D::invert(double ux, double uy, const double* params) const {
   const SliceBlend b = blend(params);
   const size_t slice_size = size_t(nx_) * ny_;
-  double sx = ux * (nx_ - 1), sy = uy * (ny_ - 1);
-  const int x = std::clamp(static_cast<int>(sx), 0, nx_ - 2), y = std::clamp(static_cast<int>(sy), 0, ny_ - 2);
-  sx -= x;
-  sy -= y;
+  const auto [x, sx] = cell_of(ux, nx_);
+  const auto [y, sy] = cell_of(uy, ny_);
   const size_t i = size_t(y) * nx_ + x;
   const double v00 = at(data_, b, slice_size, i), v10 = at(data_, b, slice_size, i + 1);
   const double v01 = at(data_, b, slice_size, i + nx_), v11 = at(data_, b, slice_size, i + nx_ + 1);

@@ -242,6 +242,19 @@ TEST(Rgl, AlbedoAtMostOneAndApproximatelyReciprocal) {
   }
 }
 
+TEST(Rgl, GridLookupsClampCoordinatesOutsideTheUnitSquare) {
+  // Found by fuzzing: a malformed VNDF warp can map to coordinates far outside [0,1] (or NaN);
+  // lookups clamp them to the grid instead of converting them to out-of-range indices.
+  const ParametricGrid2D grid(2, 2, {1, 2, 3, 4}, {}, false);
+  EXPECT_EQ(grid.eval(0.0, 0.0, nullptr), 1.0);
+  EXPECT_EQ(grid.eval(1.0, 1.0, nullptr), 4.0);
+  EXPECT_EQ(grid.eval(4.9e42, -3e9, nullptr), 2.0);
+  EXPECT_EQ(grid.eval(NAN, 0.5, nullptr), 2.0);
+  const ParametricGrid2D warp(2, 2, {1, 1, 1, 1}, {}, true);
+  const std::array<double, 2> inverted = warp.invert(1e300, -1e300, nullptr);
+  EXPECT_TRUE(std::isfinite(inverted[0]) && std::isfinite(inverted[1]));
+}
+
 TEST(Rgl, RejectsMalformedTensorFiles) {
   expect_error([] { RglBrdf::parse("not a tensor file at all", "bad.bsdf"); }, {"bad.bsdf", "not a tensor file"});
   const std::string header = std::string("tensor_file\0", 12) + std::string("\x01\x00", 2);
