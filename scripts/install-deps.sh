@@ -6,6 +6,7 @@ packages=(
   cmake g++ make pkg-config xz-utils
   libceres-dev libeigen3-dev libopenimageio-dev libopencv-dev
   libcli11-dev nlohmann-json3-dev libfmt-dev libgtest-dev libssl-dev
+  openimageio-tools  # OpenImageIO's CMake package refers to its tools (iconvert, ...)
 )
 [[ "${BRDFFIT_WITH_CHROMIUM:-0}" == 1 ]] && packages+=(chromium)
 missing=()
