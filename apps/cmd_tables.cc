@@ -16,18 +16,7 @@ namespace {
 nlohmann::json rgb_json(const Rgb<double>& c) { return {c[0], c[1], c[2]}; }
 
 void run_info(const std::string& path, bool json) {
-  TableInfo info;
-  if (path.size() > 4 && path.compare(path.size() - 4, 4, ".csv") == 0) {
-    // A CSV has no table to evaluate; describe its samples.
-    const SampleSet set = load_samples(path, SamplingOptions{});
-    info.format = "csv";
-    info.resolution = std::to_string(set.size()) + " samples";
-    info.valid = set.size();
-    for (const Sample& s : set.samples) info.include_in_range(s.value / s.l.z());
-    info.albedo = Rgb<double>::Constant(NAN);
-  } else {
-    info = open_measured(path)->info();
-  }
+  const TableInfo info = describe_measured(path);
   if (json) {
     nlohmann::json out = {{"format", info.format}, {"resolution", info.resolution}, {"valid", info.valid},
                           {"invalid", info.invalid}, {"min", rgb_json(info.min)},     {"max", rgb_json(info.max)},
@@ -56,11 +45,10 @@ void run_lookup(const LookupArgs& args) {
   const std::unique_ptr<MeasuredBrdf> table = open_measured(args.path);
   Rgb<double> f;
   if (const auto* merl = dynamic_cast<const MerlTable*>(table.get())) {
-    if (args.interp != "nearest" && args.interp != "trilinear" && !args.interp.empty())
-      fail("--interp: '{}' is not nearest or trilinear", args.interp);
     f = merl->lookup(l, v, args.interp == "nearest" ? Interpolation::Nearest : Interpolation::Trilinear);
   } else {
-    if (!args.interp.empty()) fail("--interp applies to MERL tables only ({} is {})", args.path, table->info().format);
+    if (!args.interp.empty())
+      fail("--interp applies to MERL tables only ({} is not one; it is evaluated continuously)", args.path);
     f = table->eval(l, v);
   }
   if (args.json)
@@ -97,11 +85,13 @@ void add_table_commands(CLI::App& app) {
   info->callback([info_path, info_json] { run_info(*info_path, *info_json); });
 
   auto lookup_args = std::make_shared<LookupArgs>();
-  CLI::App* lookup = app.add_subcommand("lookup", "The measured BRDF f (1/sr) at one light/view pair");
+  CLI::App* lookup = app.add_subcommand(
+      "lookup", "The measured BRDF f (1/sr) at one light/view pair (normal +z; directions need not be unit)");
   lookup->add_option("file", lookup_args->path, "Table (MERL or RGL)")->required();
   lookup->add_option("--light", lookup_args->light, "Light direction X,Y,Z (normal is +z)")->required();
   lookup->add_option("--view", lookup_args->view, "View direction X,Y,Z")->required();
-  lookup->add_option("--interp", lookup_args->interp, "MERL: nearest or trilinear (default)");
+  lookup->add_option("--interp", lookup_args->interp, "MERL: nearest bin or trilinear between bin centres (default)")
+      ->check(CLI::IsMember({"nearest", "trilinear"}));
   lookup->add_flag("--json", lookup_args->json, "Print JSON");
   lookup->callback([lookup_args] { run_lookup(*lookup_args); });
 

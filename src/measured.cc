@@ -2,7 +2,6 @@
 #include "brdffit/measured.h"
 
 #include <cstring>
-#include <fstream>
 
 #include "brdffit/csv_samples.h"
 #include "brdffit/error.h"
@@ -20,6 +19,8 @@ bool ends_with(const std::string& s, const std::string& suffix) {
 
 enum class Format { Merl, Rgl, Csv };
 
+// By content first (an RGL tensor file's magic, a MERL header's 90x90 θh/θd bins), then by
+// extension, so a misnamed table still opens and a malformed one gets its reader's message.
 Format detect_format(const std::string& path, const std::string& bytes) {
   if (bytes.compare(0, 12, "tensor_file\0", 12) == 0) return Format::Rgl;
   if (ends_with(path, ".csv")) return Format::Csv;
@@ -33,7 +34,7 @@ Format detect_format(const std::string& path, const std::string& bytes) {
   fail("{}: unknown format (expected a MERL .binary, an RGL .bsdf or a .csv of samples)", path);
 }
 
-std::unique_ptr<MeasuredBrdf> open_table(const std::string& path, const std::string& bytes, Format format) {
+std::unique_ptr<MeasuredBrdf> parse_table(const std::string& path, const std::string& bytes, Format format) {
   switch (format) {
     case Format::Merl: return std::make_unique<MerlTable>(MerlTable::parse(bytes, path));
     case Format::Rgl: return std::make_unique<RglBrdf>(RglBrdf::parse(bytes, path));
@@ -60,16 +61,36 @@ Rgb<double> directional_albedo(const MeasuredBrdf& brdf, const Vec3& v) {
 
 std::unique_ptr<MeasuredBrdf> open_measured(const std::string& path) {
   const std::string bytes = read_file(path);
-  return open_table(path, bytes, detect_format(path, bytes));
+  return parse_table(path, bytes, detect_format(path, bytes));
 }
 
 SampleSet load_samples(const std::string& path, const SamplingOptions& options) {
+  std::unique_ptr<MeasuredBrdf> table;
+  {
+    const std::string bytes = read_file(path);
+    const Format format = detect_format(path, bytes);
+    if (format == Format::Csv) {
+      SampleSet set = parse_csv_samples(bytes, path);
+      apply_sampling_options(set, options);
+      return set;
+    }
+    table = parse_table(path, bytes, format);
+  }  // the file's bytes are gone before the samples are made (a MERL table's are 35 MB)
+  return table->samples(options);
+}
+
+TableInfo describe_measured(const std::string& path) {
   const std::string bytes = read_file(path);
   const Format format = detect_format(path, bytes);
-  if (format != Format::Csv) return open_table(path, bytes, format)->samples(options);
-  SampleSet set = parse_csv_samples(bytes, path);
-  apply_sampling_options(set, options);
-  return set;
+  if (format != Format::Csv) return parse_table(path, bytes, format)->info();
+  const SampleSet set = parse_csv_samples(bytes, path);
+  TableInfo info;
+  info.format = "csv";
+  info.resolution = std::to_string(set.size()) + " samples";
+  info.valid = set.size();
+  for (const Sample& s : set.samples) info.include_in_range(s.value / s.l.z());
+  info.albedo = Rgb<double>::Constant(std::nan(""));
+  return info;
 }
 
 }  // namespace brdffit

@@ -18,6 +18,17 @@ constexpr size_t kHeaderBytes = 3 * sizeof(int32_t);
 // The φd period of a table: π for 180 bins (reciprocity folds φd+π onto φd), 2π for 360.
 double phi_d_period(int phi_d_bins) { return phi_d_bins == 360 ? 2 * kPi : kPi; }
 
+double degrees(double radians) { return radians * 180.0 / kPi; }
+
+// The bytes of a MERL file: the header, then the R, G and B blocks.
+std::string merl_file_bytes(const std::array<int, 3>& dims, const std::vector<double>& raw) {
+  const int32_t header[3] = {dims[0], dims[1], dims[2]};
+  std::string bytes(kHeaderBytes + raw.size() * sizeof(double), '\0');
+  std::memcpy(bytes.data(), header, kHeaderBytes);
+  std::memcpy(bytes.data() + kHeaderBytes, raw.data(), raw.size() * sizeof(double));
+  return bytes;
+}
+
 }  // namespace
 
 MerlTable MerlTable::read(const std::string& path) { return parse(read_file(path), path); }
@@ -41,15 +52,27 @@ MerlTable MerlTable::parse(const std::string& bytes, const std::string& name) {
          dims[1], dims[2], expected, bytes.size() - expected);
   table.raw_.resize(3 * table.bins());
   std::memcpy(table.raw_.data(), bytes.data() + kHeaderBytes, table.raw_.size() * sizeof(double));
-  const size_t non_finite =
-      std::count_if(table.raw_.begin(), table.raw_.end(), [](double x) { return !std::isfinite(x); });
-  if (non_finite > 0) fail("{}: {} NaN or infinite values in the MERL table", name, non_finite);
+
+  const size_t nan = std::count_if(table.raw_.begin(), table.raw_.end(), [](double x) { return std::isnan(x); });
+  const size_t infinite = std::count_if(table.raw_.begin(), table.raw_.end(), [](double x) { return std::isinf(x); });
+  if (nan + infinite > 0) {
+    const size_t first = std::find_if(table.raw_.begin(), table.raw_.end(), [](double x) { return !std::isfinite(x); }) -
+                         table.raw_.begin();
+    fail("{}: {} NaN and {} infinite values in the MERL table (the first in channel {} of bin {})", name, nan, infinite,
+         "RGB"[first / table.bins()], first % table.bins());
+  }
   for (size_t bin = 0; bin < table.bins(); ++bin) table.invalid_ += !table.valid(bin);
   return table;
 }
 
+void MerlTable::write(const std::string& path) const { write_file_atomic(path, merl_file_bytes(dims_, raw_)); }
+
 bool MerlTable::valid(size_t bin) const {
   return raw_[bin] >= 0.0 && raw_[bins() + bin] >= 0.0 && raw_[2 * bins() + bin] >= 0.0;
+}
+
+Rgb<double> MerlTable::value(size_t bin) const {
+  return {raw_[bin] * kScale[0], raw_[bins() + bin] * kScale[1], raw_[2 * bins() + bin] * kScale[2]};
 }
 
 HalfDiffGrid MerlTable::grid() const { return {dims_[0], dims_[1], dims_[2], phi_d_period(dims_[2])}; }
@@ -64,22 +87,22 @@ std::array<double, 3> MerlTable::coordinates(const Vec3& l, const Vec3& v) const
 }
 
 Rgb<double> MerlTable::lookup(const Vec3& l, const Vec3& v, Interpolation interpolation) const {
-  if (l.z() <= 0.0 || v.z() <= 0.0) return Rgb<double>::Zero();
+  if (!(l.z() > 0.0 && v.z() > 0.0)) return Rgb<double>::Zero();
   const std::array<double, 3> x = coordinates(l.normalized(), v.normalized());
   auto clamp_index = [](int i, int n) { return std::clamp(i, 0, n - 1); };
   auto wrap_index = [](int i, int n) { return ((i % n) + n) % n; };  // φd is periodic
-  auto value = [&](size_t bin) {
-    return Rgb<double>(raw_[bin] * kScale[0], raw_[bins() + bin] * kScale[1], raw_[2 * bins() + bin] * kScale[2]);
+  auto bin_at = [&](const int (&i)[3]) {
+    return bin_index(clamp_index(i[0], dims_[0]), clamp_index(i[1], dims_[1]), wrap_index(i[2], dims_[2]));
   };
 
   if (interpolation == Interpolation::Nearest) {
-    const size_t bin = bin_index(clamp_index(static_cast<int>(std::floor(x[0] + 0.5)), dims_[0]),
-                                 clamp_index(static_cast<int>(std::floor(x[1] + 0.5)), dims_[1]),
-                                 wrap_index(static_cast<int>(std::floor(x[2] + 0.5)), dims_[2]));
+    // The bin holding the pair: coordinates round to the nearest centre, as ⌊·⌋ of the
+    // edge-based coordinates in MERL's reader.
+    const int nearest[3] = {static_cast<int>(std::floor(x[0] + 0.5)), static_cast<int>(std::floor(x[1] + 0.5)),
+                            static_cast<int>(std::floor(x[2] + 0.5))};
+    const size_t bin = bin_at(nearest);
     return valid(bin) ? value(bin) : Rgb<double>::Zero();
   }
-  // Trilinear between the eight surrounding bin centres; neighbours without a measurement are
-  // left out and the weights of the others renormalised.
   Rgb<double> sum = Rgb<double>::Zero();
   double weight_sum = 0.0;
   const int base[3] = {static_cast<int>(std::floor(x[0])), static_cast<int>(std::floor(x[1])),
@@ -94,8 +117,7 @@ Rgb<double> MerlTable::lookup(const Vec3& l, const Vec3& v, Interpolation interp
       index[axis] = base[axis] + offset;
     }
     if (weight <= 0.0) continue;
-    const size_t bin = bin_index(clamp_index(index[0], dims_[0]), clamp_index(index[1], dims_[1]),
-                                 wrap_index(index[2], dims_[2]));
+    const size_t bin = bin_at(index);
     if (!valid(bin)) continue;
     sum += weight * value(bin);
     weight_sum += weight;
@@ -111,10 +133,8 @@ SampleSet MerlTable::samples(const SamplingOptions& options) const {
   const HalfDiffGrid g = grid();
   g.for_each_bin_above_horizon([&](int ih, int id, int ip, const Vec3& l, const Vec3& v) {
     const size_t bin = bin_index(ih, id, ip);
-    if (!valid(bin)) return;
-    Sample s{l, v, {}, g.weight(ih, id, ip)};
-    for (int c = 0; c < 3; ++c) s.value[c] = raw_[c * bins() + bin] * kScale[c] * l.z();
-    set.samples.push_back(s);
+    if (valid(bin) && within_angle_limit(options, l, v))
+      set.samples.push_back({l, v, value(bin) * l.z(), g.weight(ih, id, ip)});
   });
   apply_sampling_options(set, options);
   return set;
@@ -127,9 +147,7 @@ TableInfo MerlTable::info() const {
   info.invalid = invalid_;
   info.valid = bins() - invalid_;
   for (size_t bin = 0; bin < bins(); ++bin)
-    if (valid(bin))
-      info.include_in_range(
-          Rgb<double>(raw_[bin] * kScale[0], raw_[bins() + bin] * kScale[1], raw_[2 * bins() + bin] * kScale[2]));
+    if (valid(bin)) info.include_in_range(value(bin));
   info.albedo = directional_albedo(*this, Vec3(0, 0, 1));
   return info;
 }
@@ -137,27 +155,22 @@ TableInfo MerlTable::info() const {
 void write_merl(const std::string& path, const std::function<Rgb<double>(const Vec3& l, const Vec3& v)>& brdf,
                 int phi_d_bins) {
   if (phi_d_bins != 180 && phi_d_bins != 360) fail("{}: MERL tables have 180 or 360 φd bins, not {}", path, phi_d_bins);
-  const int32_t dims[3] = {90, 90, phi_d_bins};
-  const HalfDiffGrid grid{90, 90, phi_d_bins, phi_d_period(phi_d_bins)};
-  const size_t bins = size_t(90) * 90 * phi_d_bins;
-  std::vector<double> raw(3 * bins);
-  for (int ih = 0; ih < 90; ++ih)
-    for (int id = 0; id < 90; ++id)
-      for (int ip = 0; ip < phi_d_bins; ++ip) {
-        const size_t bin = (size_t(ih) * 90 + id) * phi_d_bins + ip;
-        Vec3 l, v;
-        from_half_diff(grid.centre(ih, id, ip), l, v);
-        const bool above = l.z() > 0.0 && v.z() > 0.0;
-        const Rgb<double> f = above ? brdf(l, v) : Rgb<double>::Zero();
-        for (int c = 0; c < 3; ++c) {
-          if (above && !std::isfinite(f[c])) fail("{}: the BRDF to write is not finite at a bin centre", path);
-          raw[c * bins + bin] = above ? f[c] / MerlTable::kScale[c] : -1.0;
-        }
-      }
-  std::string bytes(kHeaderBytes + raw.size() * sizeof(double), '\0');
-  std::memcpy(bytes.data(), dims, kHeaderBytes);
-  std::memcpy(bytes.data() + kHeaderBytes, raw.data(), raw.size() * sizeof(double));
-  write_file_atomic(path, bytes);
+  const std::array<int, 3> dims = {90, 90, phi_d_bins};
+  const HalfDiffGrid grid{dims[0], dims[1], dims[2], phi_d_period(phi_d_bins)};
+  const size_t bins = size_t(dims[0]) * dims[1] * dims[2];
+  std::vector<double> raw(3 * bins, -1.0);  // -1: no measurement (below the horizon)
+  grid.for_each_bin_above_horizon([&](int ih, int id, int ip, const Vec3& l, const Vec3& v) {
+    const Rgb<double> f = brdf(l, v);
+    if (!f.allFinite() || (f.array() < 0.0).any()) {
+      const HalfDiff a = grid.centre(ih, id, ip);
+      fail("{}: cannot write f = ({}, {}, {}) at θh {:.3f}°, θd {:.3f}°, φd {:.3f}°: MERL values must be finite and "
+           "non-negative (negative marks a bin without a measurement)",
+           path, f[0], f[1], f[2], degrees(a.theta_h), degrees(a.theta_d), degrees(a.phi_d));
+    }
+    const size_t bin = (size_t(ih) * dims[1] + id) * dims[2] + ip;
+    for (int c = 0; c < 3; ++c) raw[c * bins + bin] = f[c] / MerlTable::kScale[c];
+  });
+  write_file_atomic(path, merl_file_bytes(dims, raw));
 }
 
 }  // namespace brdffit

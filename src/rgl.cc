@@ -1,7 +1,11 @@
 #include "brdffit/rgl.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <stdexcept>
 
 #include "brdffit/error.h"
 #include "brdffit/io.h"
@@ -43,8 +47,12 @@ CellPosition cell_of(double u, int n) {
 ParametricGrid2D::ParametricGrid2D(int nx, int ny, std::vector<float> data, std::vector<std::vector<float>> axes,
                                    bool normalise)
     : nx_(nx), ny_(ny), axes_(std::move(axes)), data_(data.begin(), data.end()) {
+  size_t slices = 1;
+  for (const std::vector<float>& axis : axes_) slices *= axis.size();
+  if (nx < 2 || ny < 2 || axes_.size() > 3 || slices == 0 || data_.size() != slices * nx * ny)
+    throw std::invalid_argument("ParametricGrid2D: data size does not match the grid and parameter axes");
   if (!normalise) return;
-  const size_t slice_size = size_t(nx) * ny, slices = data_.size() / slice_size;
+  const size_t slice_size = size_t(nx) * ny;
   conditional_cdf_.assign(data_.size(), 0.0);
   marginal_cdf_.assign(slices * ny, 0.0);
   for (size_t s = 0; s < slices; ++s) {
@@ -72,24 +80,21 @@ ParametricGrid2D::SliceBlend ParametricGrid2D::blend(const double* params) const
   b.count = 1;
   b.slice[0] = 0;
   b.weight[0] = 1.0;
-  for (const std::vector<float>& axis : axes_) {
-    // Slices are row-major over the parameters: each axis multiplies the slice index.
-    size_t index = 0;
-    double t = 0.0;
-    if (axis.size() > 1) {
-      index = find_interval(axis, params[&axis - axes_.data()]);
-      t = std::clamp((params[&axis - axes_.data()] - axis[index]) / (axis[index + 1] - axis[index]), 0.0, 1.0);
-    }
+  for (size_t p = 0; p < axes_.size(); ++p) {
+    // Slices are row-major over the parameters: each axis multiplies the slice index, and an
+    // axis with more than one value doubles the slices to blend.
+    const std::vector<float>& axis = axes_[p];
+    if (axis.size() == 1) continue;
+    const size_t index = find_interval(axis, params[p]);
+    const double t = std::clamp((params[p] - axis[index]) / (axis[index + 1] - axis[index]), 0.0, 1.0);
     const int n = b.count;
     for (int k = 0; k < n; ++k) {
       b.slice[k] = b.slice[k] * axis.size() + index;
-      if (axis.size() > 1) {
-        b.slice[n + k] = b.slice[k] + 1;
-        b.weight[n + k] = b.weight[k] * t;
-        b.weight[k] *= 1.0 - t;
-      }
+      b.slice[n + k] = b.slice[k] + 1;
+      b.weight[n + k] = b.weight[k] * t;
+      b.weight[k] *= 1.0 - t;
     }
-    if (axis.size() > 1) b.count *= 2;
+    b.count *= 2;
   }
   return b;
 }
@@ -143,72 +148,99 @@ RglBrdf RglBrdf::parse(const std::string& bytes, const std::string& name) {
   const auto& vndf = file.field("vndf", Type::Float32, 4);
   const auto& rgb = file.field("rgb", Type::Float32, 5);
   const auto& description = file.field("description", Type::UInt8, 1);
-  file.field("jacobian", Type::UInt8, 1);
+  file.field("jacobian", Type::UInt8, 1);  // part of the format, though evaluation does not use it
+  file.expect_shape("jacobian", {1});
 
   const uint64_t n_phi = phi_i.shape[0], n_theta = theta_i.shape[0];
-  auto check = [&](bool ok, const char* what) {
-    if (!ok) fail("{}: inconsistent RGL file: {}", name, what);
-  };
-  check(n_phi >= 1 && n_theta >= 2, "phi_i needs at least 1 value and theta_i at least 2");
-  check(ndf.shape[0] >= 2 && ndf.shape[1] >= 2 && sigma.shape[0] >= 2 && sigma.shape[1] >= 2,
-        "ndf and sigma need at least 2x2 values");
-  check(vndf.shape[0] == n_phi && vndf.shape[1] == n_theta && vndf.shape[2] >= 2 && vndf.shape[3] >= 2,
-        "vndf must be [phi_i, theta_i, >=2, >=2]");
-  check(rgb.shape[0] == n_phi && rgb.shape[1] == n_theta && rgb.shape[2] == 3 && rgb.shape[3] >= 2 &&
-            rgb.shape[4] >= 2,
-        "rgb must be [phi_i, theta_i, 3, >=2, >=2]");
-  for (const auto* f : {&theta_i, &phi_i, &ndf, &sigma, &vndf, &rgb}) {
-    const std::vector<float> values = f->floats();
-    const auto bad = std::count_if(values.begin(), values.end(), [](float x) { return !std::isfinite(x); });
-    if (bad) fail("{}: {} NaN or infinite values in the tables", name, bad);
+  if (n_phi < 1 || n_theta < 2)
+    fail("{}: field 'phi_i' needs at least 1 value and 'theta_i' at least 2 (they have {} and {})", name, n_phi, n_theta);
+  file.expect_shape("vndf", {n_phi, n_theta, 0, 0});
+  file.expect_shape("rgb", {n_phi, n_theta, 3, 0, 0});
+  // Every table is bilinear between vertices, so needs at least 2x2 of them.
+  for (const auto& [field_name, f] : {std::pair{"ndf", &ndf}, {"sigma", &sigma}, {"vndf", &vndf}, {"rgb", &rgb}}) {
+    const uint64_t ny = f->shape[f->shape.size() - 2], nx = f->shape.back();
+    if (ny < 2 || nx < 2) fail("{}: field '{}' has a {}x{} table, at least 2x2 needed", name, field_name, ny, nx);
   }
+
+  // Values: finite; densities non-negative, the projected area (which divides f) positive.
+  auto count_values = [](const std::vector<float>& values, auto&& predicate) {
+    return std::count_if(values.begin(), values.end(), predicate);
+  };
   const std::vector<float> theta_axis = theta_i.floats(), phi_axis = phi_i.floats();
-  check(std::is_sorted(theta_axis.begin(), theta_axis.end()) && std::is_sorted(phi_axis.begin(), phi_axis.end()),
-        "theta_i and phi_i must be ascending");
+  const std::vector<float> ndf_values = ndf.floats(), sigma_values = sigma.floats(), vndf_values = vndf.floats();
+  std::vector<float> rgb_values = rgb.floats();
+  for (const auto& [field_name, values] :
+       {std::pair{"theta_i", &theta_axis}, {"phi_i", &phi_axis}, {"ndf", &ndf_values}, {"sigma", &sigma_values},
+        {"vndf", &vndf_values}, {"rgb", &rgb_values}}) {
+    const auto nan = count_values(*values, [](float x) { return std::isnan(x); });
+    const auto infinite = count_values(*values, [](float x) { return std::isinf(x); });
+    if (nan + infinite > 0) fail("{}: field '{}' has {} NaN and {} infinite values", name, field_name, nan, infinite);
+  }
+  for (const auto& [field_name, values] : {std::pair{"ndf", &ndf_values}, {"vndf", &vndf_values}})
+    if (const auto negative = count_values(*values, [](float x) { return x < 0.0f; }))
+      fail("{}: field '{}' has {} negative values (it is a density)", name, field_name, negative);
+  if (const auto non_positive = count_values(sigma_values, [](float x) { return !(x > 0.0f); }))
+    fail("{}: field 'sigma' has {} values that are not positive (the projected area divides f)", name, non_positive);
+  for (const auto& [field_name, axis] : {std::pair{"theta_i", &theta_axis}, {"phi_i", &phi_axis}})
+    if (std::adjacent_find(axis->begin(), axis->end(), std::greater_equal<float>()) != axis->end())
+      fail("{}: field '{}' must be strictly ascending", name, field_name);
 
   RglBrdf brdf;
   brdf.path_ = name;
   brdf.description_.assign(description.bytes.begin(), description.bytes.end());
-  brdf.isotropic_ = n_phi <= 2;
+  brdf.isotropic_ = n_phi <= 2;  // the public loader's rule
   if (!brdf.isotropic_ && std::lround(2 * kPi / (phi_axis.back() - phi_axis.front())) != 1)
-    fail("{}: anisotropic RGL file whose φi grid covers less than 2π (symmetry reduction) is not supported", name);
+    fail("{}: anisotropic RGL file whose φi grid spans {:.4g} rad, not 2π (symmetry-reduced files are not supported)",
+         name, phi_axis.back() - phi_axis.front());
   brdf.incident_resolution_ = {n_phi, n_theta};
-  brdf.rgb_resolution_ = {static_cast<int>(rgb.shape[4]), static_cast<int>(rgb.shape[3])};
-  brdf.ndf_ = ParametricGrid2D(int(ndf.shape[1]), int(ndf.shape[0]), ndf.floats(), {}, false);
-  brdf.sigma_ = ParametricGrid2D(int(sigma.shape[1]), int(sigma.shape[0]), sigma.floats(), {}, false);
-  brdf.vndf_ = ParametricGrid2D(int(vndf.shape[3]), int(vndf.shape[2]), vndf.floats(), {phi_axis, theta_axis}, true);
-  brdf.rgb_ = ParametricGrid2D(int(rgb.shape[4]), int(rgb.shape[3]), rgb.floats(), {phi_axis, theta_axis, {0, 1, 2}},
-                               false);
+  brdf.rgb_resolution_ = {rgb.shape[3], rgb.shape[4]};
+  auto grid = [](const TensorFile::Field& f, std::vector<float> values, std::vector<std::vector<float>> axes,
+                 bool normalise) {
+    return ParametricGrid2D(int(f.shape.back()), int(f.shape[f.shape.size() - 2]), std::move(values), std::move(axes),
+                            normalise);
+  };
+  brdf.ndf_ = grid(ndf, ndf_values, {}, false);
+  brdf.sigma_ = grid(sigma, sigma_values, {}, false);
+  brdf.vndf_ = grid(vndf, vndf_values, {phi_axis, theta_axis}, true);
+  brdf.rgb_ = grid(rgb, std::move(rgb_values), {phi_axis, theta_axis, {0, 1, 2}}, false);
   return brdf;
 }
 
 Rgb<double> RglBrdf::eval(const Vec3& l, const Vec3& v) const {
-  if (l.z() <= 0.0 || v.z() <= 0.0) return Rgb<double>::Zero();
+  if (!(l.z() > 0.0 && v.z() > 0.0)) return Rgb<double>::Zero();
   const Vec3 wi = l.normalized(), wo = v.normalized(), wm = (wi + wo).normalized();
   const double theta_i = elevation(wi), phi_i = std::atan2(wi.y(), wi.x());
   const double theta_m = elevation(wm), phi_m = std::atan2(wm.y(), wm.x());
   const double um_x = theta_to_u(theta_m);
   double um_y = phi_to_u(isotropic_ ? phi_m - phi_i : phi_m);
   um_y -= std::floor(um_y);
-  const double params[3] = {phi_i, theta_i, 0.0};
-  const std::array<double, 2> sample = vndf_.invert(um_x, um_y, params);
+  const double incident[2] = {phi_i, theta_i};
+  const std::array<double, 2> sample = vndf_.invert(um_x, um_y, incident);
   const double scale =
       ndf_.eval(um_x, um_y, nullptr) / (4.0 * sigma_.eval(theta_to_u(theta_i), phi_to_u(phi_i), nullptr));
   Rgb<double> f;
   for (int c = 0; c < 3; ++c) {
-    const double channel_params[3] = {phi_i, theta_i, double(c)};
-    f[c] = std::max(0.0, rgb_.eval(sample[0], sample[1], channel_params)) * scale;
+    const double incident_and_channel[3] = {phi_i, theta_i, double(c)};
+    f[c] = std::max(0.0, rgb_.eval(sample[0], sample[1], incident_and_channel)) * scale;
   }
   return f;
 }
 
 SampleSet RglBrdf::samples(const SamplingOptions& options) const {
-  const HalfDiffGrid grid{64, 64, 90, kPi};
+  const HalfDiffGrid grid{kSampleGrid[0], kSampleGrid[1], kSampleGrid[2], kPi};
+  const double golden = 0.5 * (std::sqrt(5.0) - 1.0);
+  size_t visited = 0;
   SampleSet set;
   set.source = path_;
   set.weighting = "solid-angle";
-  grid.for_each_bin_above_horizon([&](int ih, int id, int ip, const Vec3& l, const Vec3& v) {
-    set.samples.push_back({l, v, eval(l, v) * l.z(), grid.weight(ih, id, ip)});
+  grid.for_each_bin_above_horizon([&](int ih, int id, int ip, Vec3 l, Vec3 v) {
+    if (!isotropic_) {
+      // A Kronecker sequence spreads the bins' half vectors evenly over φh.
+      const double phi_h = 2 * kPi * std::fmod(++visited * golden, 1.0);
+      l = rotate_z(l, phi_h);
+      v = rotate_z(v, phi_h);
+    }
+    if (within_angle_limit(options, l, v)) set.samples.push_back({l, v, eval(l, v) * l.z(), grid.weight(ih, id, ip)});
   });
   apply_sampling_options(set, options);
   return set;
@@ -217,11 +249,9 @@ SampleSet RglBrdf::samples(const SamplingOptions& options) const {
 TableInfo RglBrdf::info() const {
   TableInfo info;
   info.format = "rgl";
-  info.resolution = std::to_string(incident_resolution_[0]) + "x" + std::to_string(incident_resolution_[1]) + "x" +
-                    std::to_string(rgb_resolution_[1]) + "x" + std::to_string(rgb_resolution_[0]) +
-                    (isotropic_ ? " (isotropic)" : " (anisotropic)");
+  info.resolution = fmt::format("{}x{} incident, {}x{} rgb ({})", incident_resolution_[0], incident_resolution_[1],
+                                rgb_resolution_[0], rgb_resolution_[1], isotropic_ ? "isotropic" : "anisotropic");
   info.valid = incident_resolution_[0] * incident_resolution_[1] * rgb_resolution_[0] * rgb_resolution_[1];
-  // The range over the fitting grid: the tables themselves hold warped, unnormalised values.
   for (const Sample& s : samples(SamplingOptions{}).samples) info.include_in_range(s.value / s.l.z());
   info.albedo = directional_albedo(*this, Vec3(0, 0, 1));
   return info;

@@ -1,35 +1,38 @@
+#include "brdffit/samples.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <random>
 
-#include "brdffit/samples.h"
-
 namespace brdffit {
 
+bool within_angle_limit(const SamplingOptions& options, const Vec3& l, const Vec3& v) {
+  if (options.max_angle_deg >= 90.0) return true;
+  const double min_cos = std::cos(options.max_angle_deg * kPi / 180.0);
+  return l.z() >= min_cos && v.z() >= min_cos;
+}
+
 void apply_sampling_options(SampleSet& set, const SamplingOptions& options) {
-  if (options.max_angle_deg < 90.0) {
-    const double min_cos = std::cos(options.max_angle_deg * kPi / 180.0);
-    set.samples.erase(std::remove_if(set.samples.begin(), set.samples.end(),
-                                     [&](const Sample& s) { return s.l.z() < min_cos || s.v.z() < min_cos; }),
-                      set.samples.end());
-  }
-  if (options.max_samples > 0 && set.samples.size() > options.max_samples) {
-    // A seeded partial Fisher-Yates shuffle picks the subset; sorting the picks keeps the
-    // table's order, so the same seed always gives the same samples in the same order.
-    std::vector<size_t> index(set.samples.size());
-    std::iota(index.begin(), index.end(), size_t{0});
+  std::vector<Sample>& samples = set.samples;
+  samples.erase(std::remove_if(samples.begin(), samples.end(),
+                               [&](const Sample& s) { return !within_angle_limit(options, s.l, s.v); }),
+                samples.end());
+  if (options.max_samples > 0 && samples.size() > options.max_samples) {
+    // A seeded partial Fisher-Yates shuffle of the indices picks the subset (mt19937_64 and
+    // plain modulo, unlike the std distributions, give the same numbers on every platform).
+    // Sorted, the picks keep the set's order and can be moved down in place.
+    std::vector<size_t> picks(samples.size());
+    std::iota(picks.begin(), picks.end(), size_t{0});
     std::mt19937_64 rng(options.seed);
-    for (size_t i = 0; i < options.max_samples; ++i)
-      std::swap(index[i], index[i + rng() % (index.size() - i)]);
-    index.resize(options.max_samples);
-    std::sort(index.begin(), index.end());
-    std::vector<Sample> subset;
-    subset.reserve(index.size());
-    for (size_t i : index) subset.push_back(set.samples[i]);
-    set.samples = std::move(subset);
+    for (size_t i = 0; i < options.max_samples; ++i) std::swap(picks[i], picks[i + rng() % (picks.size() - i)]);
+    picks.resize(options.max_samples);
+    std::sort(picks.begin(), picks.end());
+    for (size_t i = 0; i < picks.size(); ++i) samples[i] = samples[picks[i]];  // picks[i] >= i
+    samples.resize(picks.size());
   }
-  set.samples.shrink_to_fit();
+  // Return unused memory only when it is worth a transient copy of what remains.
+  if (samples.size() < samples.capacity() / 2) samples.shrink_to_fit();
 }
 
 }  // namespace brdffit

@@ -1,13 +1,20 @@
 // Tabulated BRDF samples as CSV.
 //
-// The first line that is not blank and does not start with '#' is the header. It names the
-// direction columns in one of two forms, then r,g,b and optionally weight:
-//   theta_i,phi_i,theta_o,phi_o,r,g,b[,weight]   angles; a '# unit: degrees' or
-//                                                  '# unit: radians' line before the header
-//                                                  says which (required)
-//   lx,ly,lz,vx,vy,vz,r,g,b[,weight]               direction vectors (need not be unit)
-// r,g,b are BRDF values f in 1/sr; samples store f·cosθi. The normal is +z; both directions
-// must lie above the horizon. Lines starting with '#' are comments.
+// Lines starting with '#' are comments and blank lines are skipped. The first other line is the
+// header, naming the columns in one of two forms, then r,g,b and optionally weight:
+//   theta_i,phi_i,theta_o,phi_o,r,g,b[,weight]   spherical angles of the light (i) and view (o)
+//                                                 directions; a comment line '# unit: degrees'
+//                                                 or '# unit: radians' before the header states
+//                                                 their unit (required)
+//   lx,ly,lz,vx,vy,vz,r,g,b[,weight]               direction vectors (need not be unit length)
+// Every following line is one sample with that many comma-separated numbers (decimal, '.' as
+// the decimal point whatever the locale). The normal is +z; both directions must lie above the
+// horizon. r,g,b are BRDF values f in 1/sr (non-negative); samples store f·cosθi. The weight
+// (non-negative, default 1) is the sample's relative importance in a fit.
+// Example:
+//   # unit: degrees
+//   theta_i,phi_i,theta_o,phi_o,r,g,b
+//   30,0,30,180,0.52,0.31,0.12
 #pragma once
 
 #include <string>
@@ -19,7 +26,8 @@ namespace brdffit {
 // Parses CSV text; `name` is used in messages ("name:line: problem").
 SampleSet parse_csv_samples(const std::string& text, const std::string& name);
 
-// Writes samples in the direction-vector form (f = value / cosθi).
+// Writes samples in the direction-vector form with weights (f = value / cosθi), with enough
+// digits that parsing the text gives the same doubles back.
 std::string format_csv_samples(const SampleSet& set);
 
 }  // namespace brdffit

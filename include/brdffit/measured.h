@@ -46,11 +46,16 @@ class MeasuredBrdf {
 // quadrature with 128x128 points.
 Rgb<double> directional_albedo(const MeasuredBrdf& brdf, const Vec3& v);
 
-// Opens a MERL or RGL table, choosing the reader by content and extension. Throws Error naming
-// the file and the problem.
+// Opens a MERL or RGL table, choosing the reader by content (an RGL tensor file's magic, a
+// MERL header of 90x90 bins), then by extension (.binary, .bsdf). Throws Error naming the file
+// and the problem.
 std::unique_ptr<MeasuredBrdf> open_measured(const std::string& path);
 
 // Samples from any readable input: MERL, RGL or CSV. Throws Error naming the file and the problem.
 SampleSet load_samples(const std::string& path, const SamplingOptions& options);
+
+// The summary of any readable input, for `brdffit info`. A CSV's rows are its valid entries
+// (the range is over their f; it has no albedo: NaN).
+TableInfo describe_measured(const std::string& path);
 
 }  // namespace brdffit

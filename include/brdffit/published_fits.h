@@ -1,6 +1,26 @@
-// Published per-material fits in the BBM benchmark's text format (bsdfbenchmark/bbm, fits/):
-//   material = Aggregate(Lambertian(albedo = [r, g, b]), NganWard(albedo = [..], roughness = 0.1))
-// mapped onto brdffit's models, so published parameters can be scored on the same tables.
+// Published per-material fits in the text format of the BBM benchmark (bsdfbenchmark/bbm,
+// fits/*.fit; a copy is in ../shared/reference/published-fits), mapped onto brdffit's models so
+// that published parameters can be evaluated and scored on the same tables as our own fits.
+//
+// Format: one material a line, '#' starts a comment line, blank lines are skipped:
+//
+//   material = Aggregate(Lambertian(albedo = [r, g, b]), NganWard(albedo = [r, g, b], roughness = 0.1))
+//
+// A term is Name(key = value, ...) with a value either a number or a list [v, v, ...] (lists may
+// nest, as Bagher's complex eta = [[re, re, re], [im, im, im]]: they are read flattened);
+// Aggregate(term, term, ...) sums terms (it may also be left out when there is one term).
+//
+// Which published terms map onto which model (the conventions are in each model's header):
+//   cook-torrance      Lambertian + NganCookTorrance(albedo, eta, roughness)        ngan_cooktorrance.fit
+//   ward               Lambertian + NganWard(albedo, roughness)                       ngan_ward.fit
+//   ashikhmin-shirley  Lambertian + NganAshikhminShirley(albedo, fresnelReflectance, sharpness)
+//                                                                                     ngan_ashikhminshirley.fit
+//   lafortune          Lambertian + NganLafortune(albedo, Cxy, Cz, sharpness)          ngan_lafortune.fit
+// Lambertian(albedo) is our albedo as it is (both are f = albedo/π); a missing Lambertian term
+// maps to albedo 0. Every published lobe "albedo" is our `specular`. NganWardDuer
+// (ngan_wardduer.fit) is a different lobe (1/(n·l n·v) instead of 1/√(n·l n·v)) and maps onto
+// none of our models; so do Löw's and Bagher's fits, Ngan's Blinn-Phong and He, and any fit with
+// more than one lobe (we fit one).
 #pragma once
 
 #include <map>
@@ -18,13 +38,28 @@ struct PublishedTerm {
   std::map<std::string, std::vector<double>> parameters;
 };
 
-// Every material of a .fit file with its terms. Throws Error naming the file and line when a
-// line is malformed.
+// Every material of a .fit file with its terms (Aggregate flattened), in file order of
+// materials' names. Throws Error naming the file and line when the file cannot be read, a line
+// is malformed, a number is not finite, or a material or a term's parameter appears twice.
 std::map<std::string, std::vector<PublishedTerm>> read_published_fits(const std::string& path);
 
-// The flattened values of `model` for a published fit (a Lambertian term plus one of Ngan's
-// NganCookTorrance, NganWard, NganAshikhminShirley, NganLafortune), or nullopt when the terms
-// are not that model's. The mapping is written in each model's header.
+// The flattened values of `model` for a published fit, or nullopt when the terms are not
+// exactly one Lambertian (optional) plus the one lobe this model maps (table above) with all of
+// its parameters, each of the right number of channels. Values are not clamped to our bounds.
 std::optional<std::vector<double>> to_model_values(const Model& model, const std::vector<PublishedTerm>& terms);
+
+// A published fit mapped onto one of our models.
+struct PublishedFit {
+  std::string material;
+  std::string model;           // our model's name, e.g. "ward"
+  std::string term;            // the published lobe's BBM name, e.g. "NganWard"
+  std::vector<double> values;  // flattened values of `model`, in the order of its parameters()
+};
+
+// Reads `fit_file` and maps `material`'s fit onto `model`: nullopt when the file has no such
+// material or that material's fit does not map onto `model` (see to_model_values). Throws Error
+// (naming the file and line) when the file is malformed.
+std::optional<PublishedFit> find_published_fit(const std::string& fit_file, const std::string& material,
+                                               const Model& model);
 
 }  // namespace brdffit

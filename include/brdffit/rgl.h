@@ -1,15 +1,23 @@
 // RGL EPFL material database BRDFs (.bsdf; Dupuy & Jakob 2018, "An Adaptive Parameterization
-// for Efficient Material Acquisition and Rendering").
+// for Efficient Material Acquisition and Rendering"), read as the public RGL loader
+// (github.com/rgl-epfl/brdf-loader, powitacq_rgb) reads them.
 //
-// The file stores, per incident direction (φi, θi) of a grid, the RGB BRDF on a grid over a
-// 2D "sample" domain [0,1]². A pair (wi, wo) is looked up through the microfacet normal
-// wm = normalize(wi + wo): its spherical coordinates map to the unit square as
-// u = (√(θm/(π/2)), (φm - φi + π)/(2π) mod 1) (φm alone for anisotropic files), and the
-// inverse of the visible-NDF warp (a marginal/conditional 2D distribution, bilinear per patch,
-// interpolated linearly over φi and θi) maps u to the sample coordinates of the RGB grid. Then
-//   f = rgb(sample) · D(u) / (4 σ(θi, φi)),
-// with D the tabulated NDF and σ the projected area, both bilinear over their unit squares.
-// Negative RGB (spectral data out of gamut) is clipped to 0 as the public loader does.
+// The file (a tensor file, tensor_file.h) stores, per incident direction on a grid
+// (fields phi_i, theta_i), the RGB BRDF on a grid over a 2D "sample" domain [0,1]² (field rgb,
+// [φi, θi, 3, ny, nx]). A pair (wi, wo) is looked up through the microfacet normal
+// wm = normalize(wi + wo), whose spherical coordinates map to the unit square as
+//   u = (√(θm/(π/2)), (φm - φi + π)/(2π) mod 1)        (φm instead of φm - φi if anisotropic)
+// and the inverse of the visible-NDF warp (field vndf, [φi, θi, ny, nx]: a marginal/conditional
+// 2D distribution, bilinear per patch, interpolated linearly over φi and θi) maps u to the
+// sample coordinates of the RGB grid. Then
+//   f = max(rgb(sample), 0) · D(u) / (4 σ(√(θi/(π/2)), (φi + π)/(2π)))
+// with D (field ndf) the tabulated NDF and σ (field sigma) the projected area, both bilinear
+// over their unit squares. Negative RGB (spectral data out of gamut) is clipped to 0 as the
+// public loader does by default. Every grid may have any resolution of at least 2x2.
+//
+// Files with more than two φi values are anisotropic; they are evaluated when their φi grid
+// spans 2π (as the public loader does) and refused otherwise (symmetry-reduced files).
+// The fields luminance (for importance sampling) and valid are not used.
 #pragma once
 
 #include <array>
@@ -20,20 +28,23 @@
 
 namespace brdffit {
 
-// A density over [0,1]² sampled on an nx × ny grid of vertices, bilinear between them, in
+// A function over [0,1]² sampled on an nx × ny grid of vertices, bilinear between them, in
 // slices indexed by up to three parameters with linear interpolation between slices.
 class ParametricGrid2D {
  public:
   ParametricGrid2D() = default;
-  // data: [param0][param1]...[y][x]; axes: each parameter's grid values (ascending).
+  // data: [param0][param1]...[y][x]; axes: each parameter's grid values (strictly ascending).
   // normalise: scale each slice to integrate to 1 and build the CDFs invert() needs.
+  // Throws std::invalid_argument when the sizes do not fit together.
   ParametricGrid2D(int nx, int ny, std::vector<float> data, std::vector<std::vector<float>> axes, bool normalise);
 
+  // Coordinates outside [0,1] clamp to the grid; parameters outside an axis clamp to its ends.
   double eval(double ux, double uy, const double* params) const;
   // The sample coordinates that the warp maps to (ux, uy): the inverse of sampling.
   std::array<double, 2> invert(double ux, double uy, const double* params) const;
 
  private:
+  // The (up to 2³) slices to blend for a parameter point, and their weights.
   struct SliceBlend {
     std::array<size_t, 8> slice{};
     std::array<double, 8> weight{};
@@ -50,15 +61,25 @@ class ParametricGrid2D {
 
 class RglBrdf final : public MeasuredBrdf {
  public:
+  // Reads a file; throws Error naming the file and the problem (container errors from
+  // TensorFile, missing fields, wrong types or shapes, NaN or infinite values, negative
+  // densities, non-ascending angle grids, symmetry-reduced anisotropic files).
   static RglBrdf read(const std::string& path);
   static RglBrdf parse(const std::string& bytes, const std::string& name);
 
   const std::string& path() const override { return path_; }
+  const std::string& description() const { return description_; }
+  // Valid: the RGB table entries (φi × θi × ny × nx); invalid: 0. The range of f is taken over
+  // the sample grid, as the tables hold warped values.
   TableInfo info() const override;
   Rgb<double> eval(const Vec3& l, const Vec3& v) const override;
-  // Samples on a half/difference grid (θh 64 bins √-spaced, θd 64, φd 90 over [0, π)), each
-  // weighted by the solid-angle measure it covers, like MERL bins.
+  // Samples on a regular half/difference grid like a MERL table's (θh 64 bins √-spaced over
+  // [0, π/2), θd 64 bins over [0, π/2), φd 90 bins over [0, π)), one at each bin centre whose
+  // pair lies above the horizon, weighted by the solid-angle measure of its bin
+  // (HalfDiffGrid::weight). Isotropic files put every half vector at φh = 0; anisotropic ones
+  // turn each pair about the normal by a low-discrepancy φh so that the set covers φh too.
   SampleSet samples(const SamplingOptions& options) const override;
+  static constexpr int kSampleGrid[3] = {64, 64, 90};
 
   bool isotropic() const { return isotropic_; }
 
@@ -66,8 +87,8 @@ class RglBrdf final : public MeasuredBrdf {
   RglBrdf() = default;
   std::string path_, description_;
   bool isotropic_ = true;
-  std::array<int, 2> rgb_resolution_{};
-  std::array<size_t, 2> incident_resolution_{};
+  std::array<size_t, 2> incident_resolution_{};  // φi, θi
+  std::array<size_t, 2> rgb_resolution_{};       // ny, nx
   ParametricGrid2D ndf_, sigma_, vndf_, rgb_;
 };
 

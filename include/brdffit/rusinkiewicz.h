@@ -60,15 +60,18 @@ struct HalfDiffGrid {
     return a;
   }
 
-  // The measure of direction pairs a bin covers: dωi·dωo = 4 cosθd sinθd sinθh dθh dθd dφd dφh,
-  // at the bin centre, times the bin's extent, with φh integrated over 2π (isotropy).
-  double weight(int i_theta_h, int i_theta_d, int i_phi_d) const {
-    const HalfDiff a = centre(i_theta_h, i_theta_d, i_phi_d);
+  // The measure of direction pairs a bin covers, dωi·dωo = 4 cosθd sinθd sinθh dθh dθd dφd dφh,
+  // integrated exactly over the bin's extent in θh (√-spaced), θd and φd, and over φh ∈ [0, 2π)
+  // (isotropy): 4 · (cosθh0 - cosθh1) · (sin²θd1 - sin²θd0)/2 · Δφd · 2π. Bins that straddle
+  // the horizon keep their whole measure.
+  double weight(int i_theta_h, int i_theta_d, int /*i_phi_d*/) const {
     const double u0 = double(i_theta_h) / theta_h_bins, u1 = double(i_theta_h + 1) / theta_h_bins;
-    const double d_theta_h = (u1 * u1 - u0 * u0) * (kPi / 2);
-    const double d_theta_d = (kPi / 2) / theta_d_bins, d_phi_d = phi_d_period / phi_d_bins;
-    return 4 * std::cos(a.theta_d) * std::sin(a.theta_d) * std::sin(a.theta_h) * d_theta_h * d_theta_d * d_phi_d *
-           2 * kPi;
+    const double theta_h0 = u0 * u0 * (kPi / 2), theta_h1 = u1 * u1 * (kPi / 2);
+    const double sin_theta_d0 = std::sin(double(i_theta_d) / theta_d_bins * (kPi / 2));
+    const double sin_theta_d1 = std::sin(double(i_theta_d + 1) / theta_d_bins * (kPi / 2));
+    const double d_phi_d = phi_d_period / phi_d_bins;
+    return 4 * (std::cos(theta_h0) - std::cos(theta_h1)) * 0.5 * (sin_theta_d1 * sin_theta_d1 - sin_theta_d0 * sin_theta_d0) *
+           d_phi_d * 2 * kPi;
   }
 
   // Calls visit(iθh, iθd, iφd, l, v) for every bin whose centre pair lies above the horizon.

@@ -32,8 +32,13 @@ struct SamplingOptions {
   uint64_t seed = 1;            // for the subset
 };
 
-// Drops samples beyond the angle limit, then keeps a deterministic random subset
-// (weights are kept; the subset is uniform so relative weights stay meaningful).
+// Whether both directions lie within options.max_angle_deg of the normal (+z). Sources that
+// generate samples test this first, so that a limited set never holds the dropped samples.
+bool within_angle_limit(const SamplingOptions& options, const Vec3& l, const Vec3& v);
+
+// Drops samples beyond the angle limit, then keeps a deterministic random subset of
+// options.max_samples, in the set's order (weights are kept; the subset is uniform so relative
+// weights stay meaningful). The same seed and set always give the same subset. Works in place.
 void apply_sampling_options(SampleSet& set, const SamplingOptions& options);
 
 }  // namespace brdffit

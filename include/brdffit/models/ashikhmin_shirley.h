@@ -1,12 +1,25 @@
-// Ashikhmin-Shirley's specular lobe (2000), isotropic, in the convention of Ngan et al. 2005,
-// over a Lambert base (Ngan used a Lambertian instead of Ashikhmin-Shirley's coupled diffuse).
+// Ashikhmin-Shirley's specular lobe (Ashikhmin & Shirley 2000), isotropic (nu = nv = n), in the
+// convention of Ngan, Durand & Matusik 2005, over a Lambert base (Ngan used a Lambertian instead
+// of Ashikhmin-Shirley's coupled diffuse term).
 //
 //   f = albedo/π + specular · (n+1)/(8π) · (n·h)^n · F(l·h) / ((l·h) · max(n·l, n·v))
 //   F = f0 + (1 - f0)(1 - l·h)^5                                          Schlick
+// and 0 for the lobe when either direction is below the horizon.
 //
-// Ngan's published "NganAshikhminShirley(albedo, fresnelReflectance, sharpness)" maps to
-// specular = albedo, f0 = fresnelReflectance, n = sharpness; their Lambertian(albedo) is our
-// albedo. The lobe's albedo stays near F but is not bounded by 1 at every angle.
+// Source and convention (BBM: "NganAshikhminShirley" in include/bsdfmodel/ngan.h is the
+// isotropic include/bsdfmodel/ashikhminshirley.h, whose isotropic normalisation is (n+1)/(8π)
+// and exponent n, with Schlick's Fresnel taking one reflectance at normal incidence shared by
+// the channels, scaled by a per-channel albedo).
+//
+// Published "NganAshikhminShirley(albedo, fresnelReflectance, sharpness)"
+// (ngan_ashikhminshirley.fit) maps 1:1: specular = albedo (per channel), f0 = fresnelReflectance,
+// n = sharpness; their Lambertian(albedo) is our albedo (BBM's Lambertian is albedo/π too).
+// Their values over MERL: albedo ≤ 0.773, fresnelReflectance ∈ [0.012, 0.999], sharpness
+// ∈ [0.5, 78200], inside our bounds.
+//
+// Energy conserving within the bounds (specular ≤ 1, f0 ≤ 1 so F ≤ 1): with dωl = 4(l·h) dωh,
+// the lobe's directional albedo is (n+1)/(2π) ∫ (n·h)^n F (n·l)/max(n·l, n·v) dωh over the h
+// that keep l above the horizon, at most (n+1)/(2π) ∫ (n·h)^n dωh = 1 over the hemisphere.
 #pragma once
 
 #include "brdffit/models/common.h"
@@ -17,14 +30,16 @@ struct AshikhminShirley {
   static constexpr const char* kName = "ashikhmin-shirley";
   static constexpr const char* kSummary =
       "albedo/π + specular·(n+1)/(8π)·(n·h)^n·F/(l·h·max(n·l,n·v)): Ashikhmin-Shirley (Ngan 2005)";
-  static constexpr bool kEnergyConserving = false;
+  static constexpr bool kEnergyConserving = true;
   enum : int { kAlbedo = 0, kSpecular = 3, kF0 = 6, kN = 7, kNumValues = 8 };
 
   static std::vector<ParamSpec> parameters() {
-    return {albedo_param(), specular_param(1.0, 0.2, "scale of the specular lobe per channel"),
-            {"f0", 1, 0.0, 1.0, 0.1, "Fresnel reflectance at normal incidence (Schlick)", Role::F0},
-            {"n", 1, 0.1, 100000.0, 50.0, "Phong-like exponent on n·h: larger is a sharper lobe", Role::Exponent, false,
-             false, Spacing::Log}};
+    return {albedo_param(),
+            specular_param(1.0, 0.2, "scale of the specular lobe per channel (Ngan's NganAshikhminShirley albedo)"),
+            {"f0", 1, 0.0, 1.0, 0.1, "Fresnel reflectance at normal incidence (Schlick; Ngan's fresnelReflectance)",
+             Role::F0},
+            {"n", 1, 0.1, 100000.0, 50.0, "exponent on n·h: larger is a sharper lobe (Ngan's sharpness)",
+             Role::Exponent, false, false, Spacing::Log}};
   }
 
   template <class T>

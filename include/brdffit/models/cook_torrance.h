@@ -1,15 +1,26 @@
-// Cook-Torrance in the convention of Ngan, Durand & Matusik 2005, over a Lambert base.
+// Cook-Torrance (Cook & Torrance 1982) in the convention of Ngan, Durand & Matusik 2005, over a
+// Lambert base.
 //
 //   f = albedo/π + specular · D(h) · G · F(l·h) / (π (n·l)(n·v))
-//   D = exp(-tan²θh/m²) / (π m² cos⁴θh)                     Beckmann, normalised
+//   D = exp(-tan²θh/m²) / (π m² cos⁴θh)                     Beckmann, normalised (∫ D cosθh dω = 1)
 //   G = min(1, 2(n·h)(n·l)/(l·h), 2(n·h)(n·v)/(v·h))        V-groove masking-shadowing
 //   F = f0 + (1 - f0)(1 - l·h)^5                            Schlick
+// and 0 for the lobe when either direction is below the horizon.
 //
-// The denominator π (not the 4 of Walter et al.) is Cook and Torrance's and Ngan's; so the lobe
-// is not normalised (its albedo can reach 4/π). Ngan's published "NganCookTorrance(albedo, eta,
-// roughness)" maps to specular = albedo, f0 = eta (a reflectance, despite its name: BBM's
-// Schlick Fresnel takes the reflectance at normal incidence), m = roughness; their
-// Lambertian(albedo) is our albedo (f = albedo/π).
+// Source and convention (BBM: "NganCookTorrance" in include/bsdfmodel/ngan.h is a scaled
+// microfacet model of include/bsdfmodel/microfacet.h with the Beckmann NDF normalised by 1/π,
+// the V-groove G, Schlick's Fresnel and the normalisation constant microfacet_n::Cook = π):
+// the denominator is Cook and Torrance's π, not the 4 of Walter et al. 2007. Ngan's "eta" is,
+// despite its name, not an index of refraction: BBM's Schlick Fresnel takes its parameter as
+// ior::reflectance (the reflectance at normal incidence), one value shared by the channels.
+//
+// Published "NganCookTorrance(albedo, eta, roughness)" (ngan_cooktorrance.fit) maps 1:1:
+// specular = albedo (per channel), f0 = eta, m = roughness; their Lambertian(albedo) is our
+// albedo (BBM's Lambertian is albedo/π too). Their values over MERL: albedo ≤ 0.981,
+// eta ∈ [0.0017, 0.999], roughness ∈ [0.0051, 0.943], all inside our bounds.
+//
+// f0 is not linear: specular·F is a product of the two. Not energy conserving: with the π
+// denominator the lobe's directional albedo reaches 4/π ≈ 1.27 (specular = f0 = 1, small m).
 #pragma once
 
 #include "brdffit/models/common.h"
@@ -24,10 +35,11 @@ struct CookTorrance {
   enum : int { kAlbedo = 0, kSpecular = 3, kF0 = 6, kM = 7, kNumValues = 8 };
 
   static std::vector<ParamSpec> parameters() {
-    return {albedo_param(), specular_param(1.0, 0.2, "scale of the specular lobe per channel"),
+    return {albedo_param(),
+            specular_param(1.0, 0.2, "scale of the specular lobe per channel (Ngan's NganCookTorrance albedo)"),
             {"f0", 1, 0.0, 1.0, 0.1, "Fresnel reflectance at normal incidence (Schlick); Ngan's 'eta'", Role::F0},
-            {"m", 1, 0.001, 1.0, 0.2, "Beckmann roughness: RMS slope of the microfacets", Role::Roughness, false,
-             false, Spacing::Log}};
+            {"m", 1, 0.001, 1.0, 0.2, "Beckmann roughness: RMS slope of the microfacets (Ngan's roughness)",
+             Role::Roughness, false, false, Spacing::Log}};
   }
 
   template <class T>

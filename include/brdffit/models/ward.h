@@ -1,12 +1,23 @@
-// Ward's isotropic Gaussian lobe (Ward 1992) in the convention of Ngan et al. 2005, over a
-// Lambert base.
+// Ward's isotropic Gaussian lobe (Ward 1992, original normalisation) in the convention of Ngan,
+// Durand & Matusik 2005, over a Lambert base.
 //
 //   f = albedo/π + specular · exp(-tan²θh/α²) / (4π α² √((n·l)(n·v)))
+// and 0 for the lobe when either direction is below the horizon.
 //
-// Ngan's published "NganWard(albedo, roughness)" (ngan_ward.fit; the original Ward
-// normalisation, not Ward-Duer's 1/(n·l n·v)) maps to specular = albedo, alpha = roughness;
-// their Lambertian(albedo) is our albedo. The 1/√(n·l n·v) factor lets the albedo exceed 1 at
-// grazing angles, so the lobe is not strictly energy conserving.
+// Source and convention (BBM: "NganWard" in include/bsdfmodel/ngan.h is the isotropic case of
+// include/bsdfmodel/ward.h): the lobe is the original Ward 1992 one, normalised by
+// 4π α² √(cosθi cosθo). Ngan also fitted the Ward-Duer variant (Dür 2006: 4π α² cosθi cosθo;
+// "NganWardDuer", include/bsdfmodel/wardduer.h, ngan_wardduer.fit); that is a different BRDF for
+// the same parameters and maps onto no brdffit model.
+//
+// Published "NganWard(albedo, roughness)" (ngan_ward.fit) maps 1:1: specular = albedo (per
+// channel), alpha = roughness; their Lambertian(albedo) is our albedo (BBM's Lambertian is
+// albedo/π too). Their values over MERL: albedo ≤ 0.279, roughness ∈ [0.0058, 0.5] (0.5 looks
+// like the upper limit of Ngan's search), inside our bounds.
+//
+// Not energy conserving: the lobe's directional albedo is about cosθo for narrow lobes and stays
+// below 1 up to θo ≈ 89°, but 1/√(n·v) makes it grow without bound at grazing view (at α = 0.5:
+// 1.48 at θo = 89.9°, 4.7 at 89.99°).
 #pragma once
 
 #include "brdffit/models/common.h"
@@ -20,9 +31,10 @@ struct Ward {
   enum : int { kAlbedo = 0, kSpecular = 3, kAlpha = 6, kNumValues = 7 };
 
   static std::vector<ParamSpec> parameters() {
-    return {albedo_param(), specular_param(1.0, 0.2, "specular reflectance of the lobe per channel"),
-            {"alpha", 1, 0.001, 1.0, 0.2, "RMS slope of the surface: the width of the lobe", Role::Roughness, false,
-             false, Spacing::Log}};
+    return {albedo_param(),
+            specular_param(1.0, 0.2, "specular reflectance of the lobe per channel (Ngan's NganWard albedo)"),
+            {"alpha", 1, 0.001, 1.0, 0.2, "RMS slope of the surface: the width of the lobe (Ngan's roughness)",
+             Role::Roughness, false, false, Spacing::Log}};
   }
 
   template <class T>

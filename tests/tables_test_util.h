@@ -1,0 +1,104 @@
+// Helpers for the measured-input tests (test_merl, test_rgl, test_csv, test_tables_cli):
+// scratch files under the build tree, the shared data, and checking error messages.
+#pragma once
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "brdffit/error.h"
+#include "test_util.h"
+
+namespace brdffit::test {
+
+namespace fs = std::filesystem;
+
+inline const std::string kSharedDir = BRDFFIT_SHARED_DIR;
+
+// tables-test-data/ beside the test binary, in the build tree: kept between runs (it caches
+// the decompressed MERL proxies) and outside git.
+inline std::string test_data_dir() {
+  static const std::string dir = [] {
+    const fs::path path = fs::read_symlink("/proc/self/exe").parent_path() / "tables-test-data";
+    fs::create_directories(path);
+    return path.string();
+  }();
+  return dir;
+}
+
+// Removes this process's scratch directory when the test program ends.
+class ScratchCleanup : public ::testing::Environment {
+ public:
+  static fs::path directory() { return fs::path(test_data_dir()) / ("run-" + std::to_string(::getpid())); }
+  void TearDown() override {
+    std::error_code ignored;
+    fs::remove_all(directory(), ignored);
+  }
+};
+inline ::testing::Environment* const kScratchCleanup = ::testing::AddGlobalTestEnvironment(new ScratchCleanup);
+
+// A path for a scratch file of this test process (one directory per process, so test runs in
+// parallel do not collide).
+inline std::string scratch_path(const std::string& name) {
+  fs::create_directories(ScratchCleanup::directory());
+  return (ScratchCleanup::directory() / name).string();
+}
+
+// The shared MERL-format proxy `name` (e.g. "gold-metallic-paint") decompressed into the test
+// data directory, once: later tests and runs reuse it while it is newer than the .xz. Empty
+// when the shared data is absent.
+inline std::string merl_proxy(const std::string& name) {
+  const fs::path packed = kSharedDir + "/data/merl-proxy/" + name + ".binary.xz";
+  if (!fs::exists(packed)) return "";
+  const fs::path path = fs::path(test_data_dir()) / (name + ".binary");
+  const uintmax_t merl_size = 12 + 3 * 90 * 90 * 180 * sizeof(double);
+  if (!fs::exists(path) || fs::file_size(path) != merl_size || fs::last_write_time(path) < fs::last_write_time(packed)) {
+    // Decompress beside it and rename, so a concurrent test process never sees half a file.
+    const std::string part = path.string() + ".part" + std::to_string(::getpid());
+    const CommandResult r = run_command("xz -dkc '" + packed.string() + "' > '" + part + "' && mv '" + part + "' '" +
+                                        path.string() + "'");
+    EXPECT_EQ(r.exit_code, 0) << "decompressing " << packed << ": " << r.output;
+  }
+  return path.string();
+}
+
+// All RGL files of the shared data, sorted.
+inline std::vector<std::string> shared_rgl_files() {
+  std::vector<std::string> files;
+  const fs::path dir = kSharedDir + "/data/rgl";
+  if (fs::exists(dir))
+    for (const auto& entry : fs::directory_iterator(dir))
+      if (entry.path().extension() == ".bsdf") files.push_back(entry.path().string());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+// Expects `action` to throw brdffit::Error (nothing else) whose message contains every
+// fragment; returns the message.
+template <class Action>
+std::string expect_error(Action&& action, const std::vector<std::string>& fragments) {
+  try {
+    action();
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    for (const std::string& f : fragments) EXPECT_NE(message.find(f), std::string::npos) << "'" << f << "' not in: " << message;
+    return message;
+  }
+  ADD_FAILURE() << "expected an error mentioning '" << fragments.front() << "'";
+  return "";
+}
+
+inline void write_bytes(const std::string& path, const std::string& bytes) {
+  FILE* f = std::fopen(path.c_str(), "wb");
+  ASSERT_NE(f, nullptr) << path;
+  ASSERT_EQ(std::fwrite(bytes.data(), 1, bytes.size(), f), bytes.size());
+  std::fclose(f);
+}
+
+}  // namespace brdffit::test
