@@ -11,31 +11,11 @@
 #include "brdffit/measured.h"
 #include "brdffit/result_json.h"
 #include "commands.h"
+#include "fit_options.h"
 
 namespace brdffit::cli {
 
 namespace {
-
-// Options every command that reads a table shares.
-struct SamplingArgs {
-  double max_angle = 90.0;
-  size_t max_samples = 0;
-  uint64_t seed = 1;
-
-  void add_to(CLI::App* command) {
-    command->add_option("--max-angle", max_angle, "Leave out samples with θi or θo above this (degrees; Ngan used 80)")
-        ->check(CLI::Range(1.0, 90.0));
-    command->add_option("--max-samples", max_samples, "Fit a deterministic random subset of this many samples (0: all)");
-    command->add_option("--seed", seed, "Seed of the subset");
-  }
-  SamplingOptions options() const { return {max_angle, max_samples, seed}; }
-};
-
-Metric metric_from(const std::string& name) {
-  const std::optional<Metric> metric = parse_metric(name);
-  if (!metric) fail("--metric: unknown metric '{}' (cosine, log, relative, l2)", name);
-  return *metric;
-}
 
 std::string format_values(const std::vector<double>& xs, const char* format) {
   if (xs.size() == 1) return fmt::format(fmt::runtime(format), xs[0]);
@@ -102,13 +82,6 @@ struct FitArgs {
   bool per_channel = false;
   std::string out, csv;
 };
-
-LossKind loss_from(const std::string& name) {
-  if (name == "none") return LossKind::None;
-  if (name == "huber") return LossKind::Huber;
-  if (name == "cauchy") return LossKind::Cauchy;
-  fail("--loss: unknown loss '{}' (none, huber, cauchy)", name);
-}
 
 void run_fit(const FitArgs& args) {
   FitOptions options;

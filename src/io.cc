@@ -5,6 +5,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -57,6 +58,9 @@ namespace brdffit {
 std::string sha256_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) fail("{}: cannot open: {}", path, std::strerror(errno));
+  // A folder opens as a stream that reads nothing: it would get the checksum of no bytes.
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error)) fail("{}: not a regular file", path);
   EVP_MD_CTX* ctx = EVP_MD_CTX_new();
   EVP_DigestInit_ex(ctx, EVP_sha256(), nullptr);
   char buffer[1 << 16];

@@ -89,4 +89,7 @@ inline Vec3 normalized_or_zero(const Vec3& d) {
   return len > 0.0 ? Vec3(d / len) : Vec3::Zero();
 }
 
+// Luminance of linear RGB with Rec. 709 / sRGB primaries (ITU-R BT.709 weights).
+inline double rec709_luminance(const Rgb<double>& rgb) { return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]; }
+
 }  // namespace brdffit

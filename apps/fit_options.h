@@ -1,0 +1,42 @@
+// Command-line options shared by the commands that fit (fit, score, batch, sphere).
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <optional>
+#include <string>
+
+#include "brdffit/error.h"
+#include "brdffit/fit.h"
+#include "brdffit/metric.h"
+#include "brdffit/samples.h"
+
+namespace brdffit::cli {
+
+struct SamplingArgs {
+  double max_angle = 90.0;
+  size_t max_samples = 0;
+  uint64_t seed = 1;
+
+  void add_to(CLI::App* command) {
+    command->add_option("--max-angle", max_angle, "Leave out samples with θi or θo above this (degrees; Ngan used 80)")
+        ->check(CLI::Range(1.0, 90.0));
+    command->add_option("--max-samples", max_samples, "Fit a deterministic random subset of this many samples (0: all)");
+    command->add_option("--seed", seed, "Seed of the subset");
+  }
+  SamplingOptions options() const { return {max_angle, max_samples, seed}; }
+};
+
+inline Metric metric_from(const std::string& name) {
+  const std::optional<Metric> metric = parse_metric(name);
+  if (!metric) fail("--metric: unknown metric '{}' (cosine, log, relative, l2)", name);
+  return *metric;
+}
+
+inline LossKind loss_from(const std::string& name) {
+  if (name == "none") return LossKind::None;
+  if (name == "huber") return LossKind::Huber;
+  if (name == "cauchy") return LossKind::Cauchy;
+  fail("--loss: unknown loss '{}' (none, huber, cauchy)", name);
+}
+
+}  // namespace brdffit::cli

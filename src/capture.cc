@@ -1,0 +1,92 @@
+#include "brdffit/capture.h"
+
+#include <algorithm>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/photo.hpp>
+#include <opencv2/videoio.hpp>
+
+#include "brdffit/error.h"
+#include "brdffit/image_io.h"
+
+namespace brdffit {
+
+namespace {
+
+bool is_camera_index(const std::string& source) {
+  return !source.empty() && std::all_of(source.begin(), source.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+cv::VideoCapture open_source(const std::string& source) {
+  cv::VideoCapture video;
+  if (is_camera_index(source))
+    video.open(std::stoi(source));
+  else
+    video.open(source);  // a video file, or an image sequence given as a printf pattern
+  if (!video.isOpened())
+    fail("{}: cannot open: not a camera index, a video file or an image sequence (e.g. shot_%02d.png) OpenCV can read",
+         source);
+  return video;
+}
+
+// The mean of the next `count` frames (8-bit BGR), as float codes 0..255.
+cv::Mat mean_of_frames(cv::VideoCapture& video, int count, const std::string& source, int& frames_read) {
+  cv::Mat sum, frame;
+  for (int k = 0; k < count; ++k) {
+    if (!video.read(frame) || frame.empty())
+      fail("{}: ran out of frames after {} (the exposures and --frames ask for more)", source, frames_read);
+    if (frame.type() != CV_8UC3) fail("{}: frame {} is not 8-bit colour", source, frames_read + 1);
+    if (!sum.empty() && frame.size() != sum.size())
+      fail("{}: frame {} is {}x{} pixels, earlier frames {}x{}", source, frames_read + 1, frame.cols, frame.rows, sum.cols, sum.rows);
+    ++frames_read;
+    if (sum.empty()) sum = cv::Mat::zeros(frame.size(), CV_32FC3);
+    cv::accumulate(frame, sum);
+  }
+  return sum / count;
+}
+
+cv::Mat bgr_to_rgb(const cv::Mat& bgr) {
+  cv::Mat rgb;
+  cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+  return rgb;
+}
+
+}  // namespace
+
+CaptureResult capture(const CaptureOptions& options) {
+  if (options.frames_per_exposure < 1) fail("--frames: at least one frame per exposure");
+  for (double t : options.exposures)
+    if (!(t > 0.0)) fail("--exposures: exposure times must be positive");
+  cv::VideoCapture video = open_source(options.source);
+  const bool camera = is_camera_index(options.source);
+  CaptureResult result;
+
+  if (options.exposures.size() <= 1) {
+    if (camera && options.exposures.size() == 1) video.set(cv::CAP_PROP_EXPOSURE, options.exposures[0]);
+    result.image = bgr_to_rgb(mean_of_frames(video, options.frames_per_exposure, options.source, result.frames) / 255.0);
+    srgb_to_linear(result.image);
+    return result;
+  }
+
+  std::vector<cv::Mat> exposures;
+  std::vector<float> times;
+  for (double t : options.exposures) {
+    if (camera) {
+      video.set(cv::CAP_PROP_EXPOSURE, t);
+      cv::Mat settling;
+      video.read(settling);  // the frame in flight still has the previous exposure
+    }
+    cv::Mat codes;
+    mean_of_frames(video, options.frames_per_exposure, options.source, result.frames).convertTo(codes, CV_8UC3);
+    exposures.push_back(codes);
+    times.push_back(static_cast<float>(t));
+  }
+  cv::Mat response, radiance;
+  cv::createCalibrateDebevec()->process(exposures, response, times);
+  cv::createMergeDebevec()->process(exposures, radiance, times, response);
+  result.image = bgr_to_rgb(radiance);
+  result.response = bgr_to_rgb(response);
+  if (!cv::checkRange(result.image)) fail("{}: the merged image has NaN or infinite values", options.source);
+  return result;
+}
+
+}  // namespace brdffit

@@ -1,0 +1,153 @@
+// Sphere geometry, the shading frame, which pixels are used, and rendering onto a sphere.
+#include "brdffit/sphere.h"
+
+#include <Eigen/Geometry>  // cross, unitOrthogonal
+#include <algorithm>
+#include <cmath>
+
+#include "brdffit/error.h"
+#include "brdffit/parallel.h"
+
+namespace brdffit {
+
+namespace {
+
+// The unit ray from a perspective camera through pixel (x, y): image rows run down, the camera
+// frame's y up, and the camera looks along -z.
+Vec3 camera_ray(const Camera& camera, double x, double y) {
+  return Vec3(x - camera.principal_x, -(y - camera.principal_y), -camera.focal_px).normalized();
+}
+
+}  // namespace
+
+Camera Camera::centred(double focal_px, cv::Size image) {
+  return {focal_px, (image.width - 1) / 2.0, (image.height - 1) / 2.0};
+}
+
+SphereView::SphereView(const Circle& outline, const Camera& camera) : outline_(outline), camera_(camera) {
+  if (!camera.perspective()) return;
+  // The silhouette is where rays graze the sphere, a cone around the direction of its centre.
+  // The outline's points nearest to and farthest from the principal point lie on opposite
+  // sides of that cone: their rays' bisector is the cone's axis and half the angle between
+  // them its half-angle α, so a sphere of radius 1 has its centre at distance 1/sin α.
+  Eigen::Vector2d radial(outline.x - camera.principal_x, outline.y - camera.principal_y);
+  radial = radial.norm() > 1e-9 ? Eigen::Vector2d(radial.normalized()) : Eigen::Vector2d(1.0, 0.0);
+  const Vec3 near = camera_ray(camera, outline.x - outline.radius * radial.x(), outline.y - outline.radius * radial.y());
+  const Vec3 far = camera_ray(camera, outline.x + outline.radius * radial.x(), outline.y + outline.radius * radial.y());
+  const double half_angle = 0.5 * std::acos(std::clamp(near.dot(far), -1.0, 1.0));
+  centre_ = (near + far).normalized() / std::sin(half_angle);
+}
+
+SphereView SphereView::centred(int size) {
+  const double middle = (size - 1) / 2.0;
+  return SphereView(Circle{middle, middle, size / 2.0 - 1.0}, Camera{});
+}
+
+bool SphereView::surface_at(double x, double y, Vec3& normal, Vec3& view) const {
+  if (!camera_.perspective()) {
+    const double nx = (x - outline_.x) / outline_.radius, ny = -(y - outline_.y) / outline_.radius;
+    const double r2 = nx * nx + ny * ny;
+    if (!(r2 < 1.0)) return false;  // also for an empty view (radius 0)
+    normal = Vec3(nx, ny, std::sqrt(1.0 - r2));
+    view = Vec3(0.0, 0.0, 1.0);
+    return true;
+  }
+  // The nearer intersection of the ray t·u with the unit sphere around centre_.
+  const Vec3 u = camera_ray(camera_, x, y);
+  const double along = u.dot(centre_);
+  const double discriminant = along * along - (centre_.squaredNorm() - 1.0);
+  if (discriminant <= 0.0) return false;
+  const double t = along - std::sqrt(discriminant);
+  if (t <= 0.0) return false;
+  normal = (t * u - centre_).normalized();
+  view = -u;
+  return true;
+}
+
+cv::Rect SphereView::bounds(cv::Size image) const {
+  // The perspective silhouette is a slightly larger ellipse than the outline circle.
+  const double reach = outline_.radius * (camera_.perspective() ? 1.1 : 1.0) + 2.0;
+  const cv::Rect box(cv::Point(static_cast<int>(std::floor(outline_.x - reach)), static_cast<int>(std::floor(outline_.y - reach))),
+                     cv::Point(static_cast<int>(std::ceil(outline_.x + reach)) + 1, static_cast<int>(std::ceil(outline_.y + reach)) + 1));
+  return box & cv::Rect(cv::Point(0, 0), image);
+}
+
+LocalFrame::LocalFrame(const Vec3& n) : tangent(n.unitOrthogonal()), bitangent(n.cross(tangent)), normal(n) {}
+
+const char* pixel_fate_name(PixelFate fate) {
+  switch (fate) {
+    case PixelFate::Used: return "used";
+    case PixelFate::Shadow: return "shadow";
+    case PixelFate::Grazing: return "grazing";
+    case PixelFate::Saturated: return "saturated";
+    case PixelFate::Dark: return "dark";
+  }
+  return "?";
+}
+
+PixelFate classify_pixel(const Vec3& normal, const Vec3& view, const Vec3& light, const cv::Vec3f& pixel,
+                         double full_scale, bool clips, const PixelRules& rules) {
+  const double cos_light = normal.dot(light), cos_view = normal.dot(view);
+  if (cos_light <= 0.0) return PixelFate::Shadow;
+  const double min_cos = std::cos(rules.max_angle_deg * kPi / 180.0);
+  if (cos_light < min_cos || cos_view < min_cos) return PixelFate::Grazing;
+  const double brightest = std::max({pixel[0], pixel[1], pixel[2]});
+  if (clips && brightest >= rules.saturation * full_scale) return PixelFate::Saturated;
+  if (brightest < rules.dark * full_scale) return PixelFate::Dark;
+  return PixelFate::Used;
+}
+
+Rgb<double> shade_fitted(const Model& model, const std::vector<double>& values,
+                         const std::vector<std::vector<double>>& per_channel_values, const Vec3& l, const Vec3& v) {
+  if (per_channel_values.empty()) return model.shade(values.data(), l, v);
+  Rgb<double> shade;
+  for (int c = 0; c < 3; ++c) shade[c] = model.shade(per_channel_values[c].data(), l, v)[c];
+  return shade;
+}
+
+cv::Mat render_sphere(const Model& model, const std::vector<double>& values, const SphereView& sphere, const Vec3& light,
+                      cv::Size size, const std::vector<std::vector<double>>& per_channel_values) {
+  cv::Mat image(size, CV_32FC3, cv::Scalar::all(0.0));
+  const Vec3 l = light.normalized();
+  const cv::Rect box = sphere.bounds(size);
+  parallel_for(static_cast<size_t>(box.height), thread_count(0), [&](size_t row) {
+    const int y = box.y + static_cast<int>(row);
+    for (int x = box.x; x < box.x + box.width; ++x) {
+      Vec3 normal, view;
+      if (!sphere.surface_at(x, y, normal, view)) continue;
+      const LocalFrame frame(normal);
+      const Rgb<double> shade = shade_fitted(model, values, per_channel_values, frame.to_local(l), frame.to_local(view));
+      image.at<cv::Vec3f>(y, x) = cv::Vec3f(static_cast<float>(shade[0]), static_cast<float>(shade[1]), static_cast<float>(shade[2]));
+    }
+  });
+  return image;
+}
+
+NormalCheck check_normals(const SphereView& sphere, const std::string& normal_map, cv::Size size, const cv::Mat& mask) {
+  const cv::Mat encoded = read_image(normal_map, Decoding{Transfer::Linear});
+  if (encoded.size() != size)
+    fail("{}: {}x{} pixels, the photographs {}x{}", normal_map, encoded.cols, encoded.rows, size.width, size.height);
+  std::vector<double> errors;
+  const cv::Rect bounds = sphere.bounds(size);
+  for (int y = bounds.y; y < bounds.y + bounds.height; ++y)
+    for (int x = bounds.x; x < bounds.x + bounds.width; ++x) {
+      Vec3 normal, view;
+      if ((!mask.empty() && !mask.at<uint8_t>(y, x)) || !sphere.surface_at(x, y, normal, view)) continue;
+      const cv::Vec3f e = encoded.at<cv::Vec3f>(y, x);
+      const Vec3 truth(2.0 * e[0] - 1.0, 2.0 * e[1] - 1.0, 2.0 * e[2] - 1.0);
+      if (std::abs(truth.norm() - 1.0) > 0.1) continue;
+      errors.push_back(std::acos(std::clamp(normal.dot(truth.normalized()), -1.0, 1.0)) * 180.0 / kPi);
+    }
+  if (errors.empty()) fail("{}: holds no normal on the located sphere", normal_map);
+  NormalCheck check{normal_map, errors.size()};
+  auto at_fraction = [&](double q) {
+    auto it = errors.begin() + static_cast<std::ptrdiff_t>(q * (errors.size() - 1));
+    std::nth_element(errors.begin(), it, errors.end());
+    return *it;
+  };
+  check.median_deg = at_fraction(0.5);
+  check.p90_deg = at_fraction(0.9);
+  return check;
+}
+
+}  // namespace brdffit
