@@ -1,8 +1,433 @@
-// `brdffit batch`, `compare`, `render`, `report`, `export` (issue 6).
+// `brdffit batch`: fit many tables; `compare`: rank models over result documents; `render`: a
+// sphere of a table or a fitted model; `report`: one HTML page about fitted materials;
+// `export`: a ggx fit as a glTF or Mitsuba 3 material.
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <condition_variable>
+#include <cstdio>
+#include <filesystem>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <thread>
+
+#include "brdffit/batch.h"
+#include "brdffit/compare.h"
+#include "brdffit/error.h"
+#include "brdffit/image_io.h"
+#include "brdffit/io.h"
+#include "brdffit/material_export.h"
+#include "brdffit/measured.h"
+#include "brdffit/parallel.h"
+#include "brdffit/render.h"
+#include "brdffit/report.h"
 #include "commands.h"
+#include "fit_options.h"
 
 namespace brdffit::cli {
 
-void add_batch_commands(CLI::App& /*app*/) {}
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+std::string duration_text(double seconds) {
+  const long s = std::lround(seconds);
+  return s >= 3600 ? fmt::format("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60) : fmt::format("{}:{:02}", s / 60, s % 60);
+}
+
+// Progress of a batch on stderr: a line per finished material, and on a terminal a bar below
+// them with counts, elapsed time and ETA, redrawn every second.
+class BatchProgress {
+ public:
+  BatchProgress(size_t total, Metric metric, bool terminal)
+      : total_(total), metric_(metric), terminal_(terminal), start_(Clock::now()) {}
+
+  void started(const BatchMaterial& material) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    running_.insert(material.name);
+    draw_bar();
+  }
+
+  void finished(const MaterialOutcome& o) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    running_.erase(o.material.name);
+    ++done_;
+    if (o.resumed) ++resumed_;
+    if (o.status != MaterialStatus::Ok) ++failed_;
+    if (!o.resumed) fitting_seconds_ = elapsed();
+    std::string line = fmt::format("[{}/{}] {}: ", done_, total_, o.material.name);
+    if (o.status == MaterialStatus::Failed) {
+      line += "FAILED: " + o.error;
+    } else {
+      line += o.resumed ? "already done" : fmt::format("{} in {:.1f} s", material_status_name(o.status), o.seconds);
+      if (const FitResult* best = best_of(o)) line += fmt::format(", best {} ({} {:.4g})", best->model, metric_name(metric_), best->metrics.get(metric_));
+      if (o.status == MaterialStatus::Partial) line += "; failed: " + o.error;
+    }
+    if (!terminal_ && fitted() > 0 && done_ < total_) line += ", ETA " + duration_text(eta());
+    clear_bar();
+    fmt::print(stderr, "{}\n", line);
+    draw_bar();
+  }
+
+  void redraw() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    draw_bar();
+  }
+
+  void close() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    clear_bar();
+  }
+
+ private:
+  double elapsed() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
+  size_t fitted() const { return done_ - resumed_; }
+  // Materials still to do at the rate fitted ones went so far (resumed ones take no time).
+  double eta() const { return fitting_seconds_ / fitted() * (total_ - done_); }
+
+  const FitResult* best_of(const MaterialOutcome& o) const {
+    const FitResult* best = nullptr;
+    for (const FitResult& f : o.fits)
+      if (f.ok && (!best || f.metrics.get(metric_) < best->metrics.get(metric_))) best = &f;
+    return best;
+  }
+
+  void clear_bar() {
+    if (terminal_) fmt::print(stderr, "\r\033[K");
+  }
+
+  void draw_bar() {
+    if (!terminal_) return;
+    constexpr int kWidth = 30;
+    const int filled = total_ ? static_cast<int>(kWidth * done_ / total_) : kWidth;
+    std::string running;
+    for (const std::string& name : running_) running += (running.empty() ? "" : ", ") + name;
+    if (running.size() > 40) running = running.substr(0, 37) + "...";
+    fmt::print(stderr, "\r\033[K[{}{}] {}/{}  failed {}  {}{}  {}", std::string(filled, '#'), std::string(kWidth - filled, '-'),
+               done_, total_, failed_, duration_text(elapsed()),
+               fitted() > 0 && done_ < total_ ? ", ETA " + duration_text(eta()) : std::string(), running);
+    std::fflush(stderr);
+  }
+
+  std::mutex mutex_;
+  const size_t total_;
+  const Metric metric_;
+  const bool terminal_;
+  const Clock::time_point start_;
+  size_t done_ = 0, resumed_ = 0, failed_ = 0;
+  double fitting_seconds_ = 0.0;  // elapsed when the last fitted (not resumed) material finished
+  std::set<std::string> running_;
+};
+
+// Calls tick() every second on its own thread until destroyed.
+class Ticker {
+ public:
+  explicit Ticker(std::function<void()> tick) : thread_([this, tick] {
+      std::unique_lock<std::mutex> lock(mutex_);
+      while (!stop_.wait_for(lock, std::chrono::seconds(1), [this] { return stopping_; })) tick();
+    }) {}
+  ~Ticker() {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      stopping_ = true;
+    }
+    stop_.notify_one();
+    thread_.join();
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable stop_;
+  bool stopping_ = false;
+  std::thread thread_;
+};
+
+struct BatchArgs {
+  std::vector<std::string> inputs;
+  std::string models = "all";
+  std::string metric = "cosine";
+  std::string loss = "none";
+  bool per_channel = false;
+  SamplingArgs sampling;
+  std::string out = "brdffit-batch";
+  int jobs = 1;
+  int threads = 0;
+  bool resume = false;
+};
+
+void run_batch_command(const BatchArgs& args) {
+  BatchOptions options;
+  options.models = parse_model_list(args.models);
+  options.fit.metric = metric_from(args.metric);
+  options.fit.loss = loss_from(args.loss);
+  options.fit.per_channel = args.per_channel;
+  options.fit.seed = args.sampling.seed;
+  options.fit.threads = args.threads;
+  options.sampling = args.sampling.options();
+  options.out_dir = args.out;
+  options.jobs = args.jobs;
+  options.resume = args.resume;
+  const std::vector<BatchMaterial> materials = batch_materials(args.inputs, args.out);
+  const int jobs = std::min<int>(args.jobs, static_cast<int>(materials.size()));
+  fmt::print("batch: {} materials x {} models, {} at a time with {} threads each; results in {}\n", materials.size(),
+             options.models.size(), jobs, args.threads > 0 ? args.threads : std::max(1, thread_count(0) / jobs), args.out);
+  std::fflush(stdout);
+
+  const auto started = Clock::now();
+  BatchProgress progress(materials.size(), options.fit.metric, ::isatty(::fileno(stderr)));
+  std::vector<MaterialOutcome> outcomes;
+  {
+    const Ticker ticker([&] { progress.redraw(); });
+    outcomes = run_batch(materials, options,
+                         {[&](const BatchMaterial& m) { progress.started(m); },
+                          [&](const MaterialOutcome& o) { progress.finished(o); }});
+  }
+  progress.close();
+  const double seconds = std::chrono::duration<double>(Clock::now() - started).count();
+
+  const fs::path out(args.out);
+  write_file_atomic((out / "summary.json").string(), batch_summary_json(outcomes, options, seconds).dump(2) + "\n");
+  write_file_atomic((out / "summary.csv").string(), batch_summary_csv(outcomes, options));
+  size_t failed = 0, partial = 0, resumed = 0;
+  for (const MaterialOutcome& o : outcomes) {
+    failed += o.status == MaterialStatus::Failed;
+    partial += o.status == MaterialStatus::Partial;
+    resumed += o.resumed;
+  }
+  fmt::print("batch: {} materials in {}: {} ok ({} already done), {} partly fitted, {} failed; summary in {}\n",
+             outcomes.size(), duration_text(seconds), outcomes.size() - failed - partial, resumed, partial, failed,
+             (out / "summary.csv").string());
+  if (failed + partial > 0)
+    fail("{} of {} materials failed and {} were only partly fitted (see {})", failed, outcomes.size(), partial,
+         (out / "summary.json").string());
+}
+
+// The result documents a batch summary lists (those of the materials that were fitted), or
+// nothing when `path` is not a batch summary.
+std::vector<std::string> documents_of_summary(const std::string& path) {
+  std::vector<std::string> results;
+  const nlohmann::json summary = nlohmann::json::parse(read_file(path), nullptr, /*allow_exceptions=*/false);
+  if (!summary.is_object() || !summary.contains("materials") || !summary["materials"].is_array())
+    return results;
+  for (const nlohmann::json& material : summary["materials"])
+    if (material.is_object() && material.contains("result") && material["result"].is_string())
+      results.push_back(material["result"].get<std::string>());
+  return results;
+}
+
+// Result documents named directly, those a batch's summary.json lists, or every *.json in a
+// folder but the batch's summary.json.
+std::vector<FitDocument> read_documents(const std::vector<std::string>& inputs) {
+  std::vector<std::string> paths;
+  for (const std::string& input : inputs) {
+    std::error_code error;
+    if (!fs::is_directory(input, error)) {
+      const bool summary = fs::path(input).filename() == "summary.json";
+      const std::vector<std::string> listed = summary ? documents_of_summary(input) : std::vector<std::string>{};
+      if (summary && !listed.empty())
+        paths.insert(paths.end(), listed.begin(), listed.end());
+      else
+        paths.push_back(input);
+      continue;
+    }
+    std::vector<std::string> found;
+    for (const fs::directory_entry& entry : fs::directory_iterator(input, error))
+      if (entry.is_regular_file() && entry.path().extension() == ".json" && entry.path().filename() != "summary.json")
+        found.push_back(entry.path().string());
+    if (error) fail("{}: cannot list the folder: {}", input, error.message());
+    if (found.empty()) fail("{}: no result documents (.json) in this folder", input);
+    std::sort(found.begin(), found.end());
+    paths.insert(paths.end(), found.begin(), found.end());
+  }
+  // A shell glob over a batch folder names its documents and its summary: each document once.
+  std::vector<FitDocument> documents;
+  std::set<std::string> seen;
+  for (const std::string& path : paths) {
+    std::error_code error;
+    const fs::path canonical = fs::weakly_canonical(path, error);
+    if (seen.insert(error ? path : canonical.string()).second) documents.push_back(read_fit_document(path));
+  }
+  return documents;
+}
+
+struct CompareArgs {
+  std::vector<std::string> results;
+  std::string metric, csv, markdown;
+};
+
+void run_compare(const CompareArgs& args) {
+  const std::vector<FitDocument> documents = read_documents(args.results);
+  const Metric metric = args.metric.empty() ? common_metric(documents) : metric_from(args.metric);
+  const Comparison comparison = compare_results(documents, metric);
+  fmt::print("{}", comparison_text(comparison));
+  if (!args.csv.empty()) write_file_atomic(args.csv, comparison_csv(comparison));
+  if (!args.markdown.empty()) write_file_atomic(args.markdown, comparison_markdown(comparison));
+}
+
+struct LightingArgs {
+  std::string light, view;
+
+  void add_to(CLI::App* command) {
+    command->add_option("--light", light, "Direction towards the light X,Y,Z (picture: x right, y up, z toward you; default -1,1,2)");
+    command->add_option("--view", view, "Direction towards the camera X,Y,Z (default 0,0,1)");
+  }
+  SphereLighting lighting() const {
+    SphereLighting lighting;
+    if (!light.empty()) lighting.light = parse_vec3(light, "--light");
+    if (!view.empty()) lighting.view = parse_vec3(view, "--view");
+    light_in_camera_frame(lighting);  // rejects zero directions before any work
+    return lighting;
+  }
+};
+
+struct RenderArgs {
+  std::string input, model, out;
+  LightingArgs lighting;
+  int size = 256;
+  double reference = 0.0;
+};
+
+bool is_linear_image(const std::string& path) {
+  std::string extension = fs::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension == ".exr" || extension == ".hdr";
+}
+
+void run_render(const RenderArgs& args) {
+  const SphereLighting lighting = args.lighting.lighting();
+  cv::Mat sphere;
+  std::string what;
+  if (fs::path(args.input).extension() == ".json") {
+    const FitDocument document = read_fit_document(args.input);
+    std::string names;
+    for (const FitResult& r : document.results) names += (names.empty() ? "" : ", ") + r.model;
+    if (args.model.empty()) fail("{}: choose the model to render with --model ({})", args.input, names);
+    const auto fit = std::find_if(document.results.begin(), document.results.end(),
+                                  [&](const FitResult& r) { return r.model == args.model; });
+    if (fit == document.results.end()) fail("{}: has no {} result (it has {})", args.input, args.model, names);
+    if (!fit->ok) fail("{}: the {} fit failed ({}): nothing to render", args.input, args.model, fit->error);
+    const Model* model = find_model(args.model);
+    if (!model) fail("{}: {} is not a model of this version of brdffit", args.input, args.model);
+    sphere = render_fitted_sphere(*model, *fit, lighting, args.size);
+    what = args.model + " fitted to " + document.input_path;
+  } else {
+    if (!args.model.empty()) fail("--model applies to result documents (.json); {} is a table", args.input);
+    sphere = render_measured_sphere(*open_measured(args.input), lighting, args.size);
+    what = args.input;
+  }
+  if (is_linear_image(args.out)) {
+    write_image(args.out, sphere, Encoding::Float);
+    fmt::print("wrote {} ({}, {}x{} linear f·cosθi)\n", args.out, what, args.size, args.size);
+    return;
+  }
+  const double reference = args.reference > 0.0 ? args.reference : tone_reference(sphere, sphere_mask(args.size));
+  write_image(args.out, tone_map(sphere, reference), Encoding::Srgb8);
+  fmt::print("wrote {} ({}, {}x{}, tone reference {:.6g})\n", args.out, what, args.size, args.size, reference);
+}
+
+struct ReportArgs {
+  std::vector<std::string> results;
+  std::string out, metric;
+  LightingArgs lighting;
+  int top = 0, size = 160;
+};
+
+void run_report(const ReportArgs& args) {
+  const std::vector<FitDocument> documents = read_documents(args.results);
+  ReportOptions options;
+  if (!args.metric.empty()) options.metric = metric_from(args.metric);
+  options.lighting = args.lighting.lighting();
+  options.top = args.top;
+  options.sphere_size = args.size;
+  options.progress = [](size_t index, size_t count, const std::string& material) {
+    fmt::print(stderr, "[{}/{}] {}\n", index + 1, count, material);
+  };
+  const std::string page = report_html(documents, options);
+  write_file_atomic(args.out, page);
+  fmt::print("wrote {} ({} materials, {:.1f} MB)\n", args.out, documents.size(), page.size() / 1e6);
+}
+
+struct ExportArgs {
+  std::string result, model = "ggx", format, out;
+};
+
+void run_export(const ExportArgs& args) {
+  if (args.model != "ggx")
+    fail("--model {}: export maps the ggx fit only (glTF and Mitsuba 3 use GGX with α = roughness²)", args.model);
+  std::string format = args.format;
+  if (format.empty()) {
+    const std::string extension = fs::path(args.out).extension().string();
+    if (extension == ".gltf") format = "gltf";
+    if (extension == ".xml") format = "mitsuba";
+    if (format.empty()) fail("--format: gltf or mitsuba (not implied by the name {})", args.out);
+  }
+  if (format != "gltf" && format != "mitsuba") fail("--format: gltf or mitsuba, not '{}'", format);
+  const FitDocument document = read_fit_document(args.result);
+  const MetallicRoughness mr = metallic_roughness_of(document);
+  write_file_atomic(args.out, format == "gltf" ? gltf_material(document) : mitsuba_bsdf(document));
+  fmt::print("wrote {}: base colour {:.4f} {:.4f} {:.4f}, metallic {:.4f}, roughness {:.4f}\n", args.out,
+             mr.base_color[0], mr.base_color[1], mr.base_color[2], mr.metallic, mr.roughness);
+  fmt::print("  implied at normal incidence: albedo {:.4f} {:.4f} {:.4f}, f0 {:.4f} {:.4f} {:.4f}\n", mr.albedo[0],
+             mr.albedo[1], mr.albedo[2], mr.f0[0], mr.f0[1], mr.f0[2]);
+}
+
+}  // namespace
+
+void add_batch_commands(CLI::App& app) {
+  auto batch = std::make_shared<BatchArgs>();
+  CLI::App* batch_cmd = app.add_subcommand("batch", "Fit every model to many tables; one result document per material");
+  batch_cmd->add_option("input", batch->inputs, "Tables, folders of tables, or manifests (one path per line)")->required();
+  batch_cmd->add_option("--models", batch->models, "Comma-separated models, or 'all'")->capture_default_str();
+  batch_cmd->add_option("--metric", batch->metric, "What to minimise: cosine, log, relative, l2")->capture_default_str();
+  batch_cmd->add_option("--loss", batch->loss, "Robust loss per sample: none, huber, cauchy")->capture_default_str();
+  batch_cmd->add_flag("--per-channel", batch->per_channel, "Fit shape parameters per colour channel");
+  batch_cmd->add_option("--out", batch->out, "Folder for the result documents and summary.{json,csv}")->capture_default_str();
+  batch_cmd->add_option("--jobs", batch->jobs, "Materials fitted at once")->capture_default_str()->check(CLI::PositiveNumber);
+  batch_cmd->add_option("--threads", batch->threads, "Threads per material (0: the cores shared among the jobs)");
+  batch_cmd->add_flag("--resume", batch->resume, "Skip materials whose result document is complete and current");
+  batch->sampling.add_to(batch_cmd);
+  batch_cmd->callback([batch] { run_batch_command(*batch); });
+
+  auto compare = std::make_shared<CompareArgs>();
+  CLI::App* compare_cmd = app.add_subcommand("compare", "Rank models per material and over a set of result documents");
+  compare_cmd->add_option("results", compare->results, "Result documents, or folders of them (a batch's --out)")->required();
+  compare_cmd->add_option("--metric", compare->metric, "Rank by: cosine, log, relative, l2 (default: the documents')");
+  compare_cmd->add_option("--csv", compare->csv, "Write the per-model table with every material's error and rank (CSV)");
+  compare_cmd->add_option("--markdown", compare->markdown, "Write the tables as Markdown");
+  compare_cmd->callback([compare] { run_compare(*compare); });
+
+  auto render = std::make_shared<RenderArgs>();
+  CLI::App* render_cmd = app.add_subcommand("render", "Render a sphere of a measured table or of a fitted model");
+  render_cmd->add_option("input", render->input, "Measured table (MERL, RGL), or a result document with --model")->required();
+  render_cmd->add_option("--model", render->model, "The fitted model to render from a result document");
+  render->lighting.add_to(render_cmd);
+  render_cmd->add_option("--size", render->size, "Picture size in pixels")->capture_default_str()->check(CLI::Range(8, 8192));
+  render_cmd->add_option("--reference", render->reference,
+                         "PNG: the f·cosθi shown at about 75% grey (default: the sphere's 99th percentile)")
+      ->check(CLI::PositiveNumber);
+  render_cmd->add_option("--out", render->out, "Picture: .png (tone-mapped sRGB) or .exr (linear)")->required();
+  render_cmd->callback([render] { run_render(*render); });
+
+  auto report = std::make_shared<ReportArgs>();
+  CLI::App* report_cmd = app.add_subcommand("report", "One self-contained HTML page comparing fits, with pictures");
+  report_cmd->add_option("results", report->results, "Result documents, or folders of them (a batch's --out)")->required();
+  report_cmd->add_option("--out", report->out, "The page to write (.html)")->required();
+  report_cmd->add_option("--metric", report->metric, "Rank by: cosine, log, relative, l2 (default: the documents')");
+  report_cmd->add_option("--top", report->top, "Picture only the best N models of each material (0: all)")->capture_default_str();
+  report_cmd->add_option("--size", report->size, "Sphere size in pixels")->capture_default_str()->check(CLI::Range(16, 1024));
+  report->lighting.add_to(report_cmd);
+  report_cmd->callback([report] { run_report(*report); });
+
+  auto export_args = std::make_shared<ExportArgs>();
+  CLI::App* export_cmd = app.add_subcommand("export", "Write a ggx fit as a glTF 2.0 material or a Mitsuba 3 BSDF");
+  export_cmd->add_option("result", export_args->result, "Result document (from fit or batch)")->required();
+  export_cmd->add_option("--model", export_args->model, "The fit to export (ggx)")->capture_default_str();
+  export_cmd->add_option("--format", export_args->format, "gltf or mitsuba (default: from --out's extension)");
+  export_cmd->add_option("--out", export_args->out, "File to write (.gltf, .xml)")->required();
+  export_cmd->callback([export_args] { run_export(*export_args); });
+}
 
 }  // namespace brdffit::cli

@@ -1,4 +1,5 @@
-// File helpers: whole-or-nothing writes and whole-file reads with clear errors.
+// File helpers: whole-or-nothing writes and whole-file reads with clear errors, checksums, and
+// escaping text for the HTML and XML files brdffit writes.
 #pragma once
 
 #include <string>
@@ -14,5 +15,8 @@ std::string read_file(const std::string& path);
 
 // SHA-256 of a file's bytes as lowercase hex.
 std::string sha256_file(const std::string& path);
+
+// Text escaped to stand in HTML or XML content and attribute values (& < > " ').
+std::string escape_markup(const std::string& text);
 
 }  // namespace brdffit

@@ -1,0 +1,80 @@
+// Fitting many materials: which files an input names, one result document per material, and
+// the summary of the whole set. The library side of `brdffit batch`.
+#pragma once
+
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "brdffit/fit.h"
+#include "brdffit/samples.h"
+
+namespace brdffit {
+
+struct BatchMaterial {
+  std::string name;  // unique within the batch; names the result document <name>.json
+  std::string path;  // the table, absolute
+};
+
+// The materials that inputs name, in order, each file once:
+//   - a file with a table extension (.binary, .bsdf, .csv) is one material;
+//   - a folder stands for every such file inside it, recursively, in sorted order (nothing under
+//     `skip_dir`, the batch's own output folder, whose summary.csv is no table);
+//   - any other text file is a manifest: one path per line (relative to the manifest's folder;
+//     blank lines and '#' comments skipped), each a table or a folder. A binary file is a table
+//     whatever its extension (MERL files are recognised by content).
+// Inputs on the command line must exist (Error naming the input otherwise); a manifest's entry
+// that does not is kept, and fails as a material when the batch reaches it.
+// Names are file names without the table extension, made unique by -2, -3, ... in input order.
+std::vector<BatchMaterial> batch_materials(const std::vector<std::string>& inputs, const std::string& skip_dir = "");
+
+struct BatchOptions {
+  std::vector<const Model*> models;
+  FitOptions fit;             // fit.threads: threads per material; 0: the cores shared among the jobs
+  SamplingOptions sampling;
+  std::string out_dir;
+  int jobs = 1;               // materials fitted at once
+  bool resume = false;        // skip materials whose result document is complete and current
+};
+
+enum class MaterialStatus {
+  Ok,       // every model fitted; result document written (or, resumed, already there)
+  Partial,  // result document written, but some models failed to fit
+  Failed,   // no result document: the table could not be read, or fitting threw
+};
+const char* material_status_name(MaterialStatus status);  // "ok", "partial", "failed"
+
+struct MaterialOutcome {
+  BatchMaterial material;
+  MaterialStatus status = MaterialStatus::Failed;
+  bool resumed = false;          // skipped: its document was already complete
+  std::string error;             // Failed: why; Partial: which models failed
+  std::string result_path;       // empty when Failed
+  std::vector<FitResult> fits;   // the models' results (read back when resumed)
+  double seconds = 0.0;
+};
+
+// Called from worker threads, one call at a time.
+struct BatchEvents {
+  std::function<void(const BatchMaterial&)> started;
+  std::function<void(const MaterialOutcome&)> finished;
+};
+
+// Fits every material with every model, options.jobs materials at a time, each table read only
+// when its turn comes (memory holds at most `jobs` tables). Each material's result document
+// (fit_document_json, plus "material") is written atomically to <out_dir>/<name>.json as soon as
+// it is fitted; a material that fails is recorded and the others go on. With resume, a material
+// is skipped when its document exists, names the same input with the same SHA-256, the same
+// metric, per-channel and loss settings, and holds every requested model fitted ok. Returns one
+// outcome per material, in input order. Throws Error only for an unusable output folder.
+std::vector<MaterialOutcome> run_batch(const std::vector<BatchMaterial>& materials, const BatchOptions& options,
+                                       const BatchEvents& events = {});
+
+// summary.json and summary.csv: per material its status, error, best model and every model's
+// error under the options' metric (empty/null where a model failed).
+nlohmann::json batch_summary_json(const std::vector<MaterialOutcome>& outcomes, const BatchOptions& options,
+                                  double seconds);
+std::string batch_summary_csv(const std::vector<MaterialOutcome>& outcomes, const BatchOptions& options);
+
+}  // namespace brdffit

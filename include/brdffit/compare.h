@@ -1,0 +1,67 @@
+// Comparing models over a set of fitted materials: per material the models ranked by one
+// metric; per model the mean and median error, the mean rank and the number of materials on
+// which it is best. The library side of `brdffit compare`, also used by the report.
+//
+// Ranking: models that fitted are ranked by ascending error, equal errors sharing the better
+// rank (1, 2, 2, 4); models whose fit failed (or whose error is not a number) share the place
+// after every model that fitted. Mean and median run over the materials where the model fitted;
+// the mean rank over every material that has the model, failures included, so that failing is
+// not better than fitting badly. A model is best on a material when its rank there is 1.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "brdffit/metric.h"
+#include "brdffit/result_json.h"
+
+namespace brdffit {
+
+struct RankedModel {
+  std::string model;
+  bool ok = false;
+  double error = NAN;  // under the comparison's metric; NaN when the fit failed
+  int rank = 0;
+};
+
+struct MaterialRanking {
+  std::string material;  // the input's file name without extension (the document's, if two share it)
+  std::string document;  // path of the result document
+  std::string input;     // the measured table the document names
+  std::vector<RankedModel> models;  // best first; failed fits last
+
+  const RankedModel* find(const std::string& model) const;
+};
+
+struct ModelSummary {
+  std::string model;
+  int materials = 0;  // materials whose document has this model
+  int failed = 0;     // of those, where its fit failed
+  double mean_error = NAN, median_error = NAN;  // over the materials where it fitted
+  double mean_rank = NAN;
+  int wins = 0;       // materials where its rank is 1
+};
+
+struct Comparison {
+  Metric metric = Metric::Cosine;
+  std::vector<MaterialRanking> materials;  // in document order
+  std::vector<ModelSummary> models;        // best mean rank first (then by name)
+};
+
+Comparison compare_results(const std::vector<FitDocument>& documents, Metric metric);
+
+// The metric the documents were fitted with when they agree, else cosine.
+Metric common_metric(const std::vector<FitDocument>& documents);
+
+// Plain-text tables for the terminal: the per-model summary, then each material's ranking.
+std::string comparison_text(const Comparison& comparison);
+// One row per model: model,fitted,failed,mean,median,mean_rank,wins, then for each material its
+// error and its rank ("<material>", "<material> rank"); empty cells where a model has no number.
+std::string comparison_csv(const Comparison& comparison);
+// The per-model summary and a materials x models table of errors with ranks, the best in bold.
+std::string comparison_markdown(const Comparison& comparison);
+
+// A CSV field: quoted, with quotes doubled, when it holds a comma, quote or line break.
+std::string csv_field(const std::string& text);
+
+}  // namespace brdffit

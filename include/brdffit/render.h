@@ -1,0 +1,76 @@
+// Pictures of reflectance for people to judge: a sphere under a directional light, the θh/θd
+// slice at φd = 90° and in-plane curves, each of a measured table or of a fitted model, and the
+// tone mapping that shows measured and fitted pictures on one scale. The library side of
+// `brdffit render` and of the report's images.
+//
+// Images are CV_32FC3 linear RGB, rows top to bottom (image_io.h's convention).
+#pragma once
+
+#include <functional>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "brdffit/fit.h"
+#include "brdffit/math.h"
+#include "brdffit/measured.h"
+#include "brdffit/model.h"
+
+namespace brdffit {
+
+// f(l, v) in 1/sr for unit directions in the local frame (n = +z).
+using BrdfFunction = std::function<Rgb<double>(const Vec3& l, const Vec3& v)>;
+
+// A measured table's f (MeasuredBrdf::eval).
+BrdfFunction measured_brdf(const MeasuredBrdf& table);
+// A fitted model's f, as its shaded value / cosθi (stylised models have no other), with the
+// per-channel values when the fit has them. Throws Error when the result's values do not fit
+// the model (a document from another version).
+BrdfFunction fitted_brdf(const Model& model, const FitResult& fit);
+
+// A sphere photographed by an orthographic camera from `view`, lit by a directional light of unit
+// irradiance from `light`; both directions in one world frame, towards the light and towards the
+// camera. The picture's up is the world's +y (+z when the view is along y). The models are
+// isotropic, so only the angle between light and view and the light's side matter.
+struct SphereLighting {
+  Vec3 light = Vec3(-1.0, 1.0, 2.0).normalized();  // upper left, 35° off the view
+  Vec3 view = Vec3::UnitZ();
+};
+
+// The light in the camera frame of sphere.h (x right, y up, z toward the camera). Throws Error
+// for a zero light or view.
+Vec3 light_in_camera_frame(const SphereLighting& lighting);
+
+// The shaded value f·cosθi at every pixel of a size x size picture that shows the sphere (zero
+// elsewhere). The fitted one is sphere.h's render_sphere; both use SphereView::centred(size).
+cv::Mat render_measured_sphere(const MeasuredBrdf& table, const SphereLighting& lighting, int size);
+cv::Mat render_fitted_sphere(const Model& model, const FitResult& fit, const SphereLighting& lighting, int size);
+// 255 on the pixels of that picture that show the sphere, 0 elsewhere (CV_8U).
+cv::Mat sphere_mask(int size);
+
+// f over the half/difference plane at φd = 90° (the MERL slice): column x is θh from 0 to 90°
+// spaced like MERL's bins (θh ∝ u², u = (x+½)/size, so the specular peak gets room), row y is
+// θd from 0 (top) to 90°. At φd = 90° both directions stay above the horizon (n·l = n·v =
+// cosθh·cosθd), so every pixel has a value.
+cv::Mat half_diff_slice(const BrdfFunction& brdf, int size);
+
+// Luminance (Rec. 709) of f in the plane of incidence, light at theta_i_deg from the normal on
+// the -x side: one value per outgoing angle θo = -89°..89° in `points` steps, negative θo on the
+// light's side (the mirror direction is θo = +θi).
+std::vector<double> in_plane_curve(const BrdfFunction& brdf, double theta_i_deg, int points);
+
+// Linear values to display values in [0, 1] (still linear light; write_image or png_data_uri
+// sRGB-encode them). Values are divided by `reference`, which then shows as about 75% grey in
+// sRGB, and rolled off smoothly to white at 4x the reference (extended Reinhard), so that
+// highlights keep their shape. The same reference for measured and fitted pictures keeps them
+// comparable. NaN (no data) shows as dark grey.
+cv::Mat tone_map(const cv::Mat& linear, double reference);
+// The 99th percentile of the brightest channel over the pixels where mask is non-zero (every
+// finite pixel when the mask is empty); 1 when that is not positive.
+double tone_reference(const cv::Mat& linear, const cv::Mat& mask = cv::Mat());
+
+// The largest channel's |a - b| (CV_32F), NaN where either is NaN.
+cv::Mat channel_max_difference(const cv::Mat& a, const cv::Mat& b);
+// heatmap() of a difference, full at full_scale; dark grey where mask is zero or the difference is NaN.
+cv::Mat error_heatmap(const cv::Mat& difference, double full_scale, const cv::Mat& mask = cv::Mat());
+
+}  // namespace brdffit

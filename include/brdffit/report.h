@@ -1,0 +1,42 @@
+// One self-contained HTML page about a set of fitted materials, to read offline: the comparison
+// of models (compare.h), and per material the measured sphere and θh/θd slice beside each
+// model's, error heatmaps, and in-plane curves on polar plots. Images are PNG data URIs, plots
+// inline SVG; nothing is loaded from elsewhere. The library side of `brdffit report`.
+//
+// Every picture of a material shares one tone mapping (render.h's tone_map, its reference the
+// 99th percentile of the measured picture, or of the best model's when the table cannot be read),
+// so brightness differences between measured and fitted pictures are real. Error heatmaps show
+// the largest channel's |fit - measured|, full colour at a quarter of that reference.
+// The page marks images that fail to load in #image-check (data-total, data-broken) once loaded.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "brdffit/metric.h"
+#include "brdffit/render.h"
+#include "brdffit/result_json.h"
+
+namespace brdffit {
+
+struct ReportOptions {
+  std::optional<Metric> metric;  // ranking metric; default: the one the documents were fitted with
+  SphereLighting lighting;
+  int sphere_size = 160;         // pixels
+  int slice_size = 128;
+  int top = 0;                   // picture the best `top` models of each material; 0: all
+  std::vector<double> incidence_deg = {20.0, 45.0, 70.0};  // in-plane curves
+  // Called after each material's pictures (index from 0), e.g. for progress lines.
+  std::function<void(size_t index, size_t count, const std::string& material)> progress;
+};
+
+// The page. Materials whose table cannot be read (moved, or CSV samples that cannot be evaluated
+// everywhere) get the models' pictures and a note saying why the measured ones are missing.
+std::string report_html(const std::vector<FitDocument>& documents, const ReportOptions& options);
+
+// An image (CV_32FC3 display values in [0, 1], linear light) as an sRGB PNG data URI.
+std::string png_data_uri(const cv::Mat& display);
+
+}  // namespace brdffit

@@ -1,0 +1,346 @@
+// Batch fitting (see batch.h).
+#include "brdffit/batch.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include "brdffit/compare.h"
+#include "brdffit/error.h"
+#include "brdffit/io.h"
+#include "brdffit/measured.h"
+#include "brdffit/parallel.h"
+#include "brdffit/result_json.h"
+
+namespace brdffit {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string lowercase(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+bool has_table_extension(const fs::path& path) {
+  const std::string extension = lowercase(path.extension().string());
+  return extension == ".binary" || extension == ".bsdf" || extension == ".csv";
+}
+
+// A manifest is text; every table format but CSV (recognised by its extension) is binary, and a
+// binary file has a NUL byte early on (MERL's first int32 is 90).
+bool looks_like_text(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  char head[4096];
+  in.read(head, sizeof head);
+  return std::find(head, head + in.gcount(), '\0') == head + in.gcount();
+}
+
+fs::path absolute_normal(const fs::path& path) { return fs::weakly_canonical(fs::absolute(path)); }
+
+bool is_inside(const fs::path& path, const fs::path& folder) {
+  if (folder.empty()) return false;
+  const auto [folder_end, path_end] = std::mismatch(folder.begin(), folder.end(), path.begin(), path.end());
+  return folder_end == folder.end();
+}
+
+// Collects table paths in input order, each once.
+class TableList {
+ public:
+  explicit TableList(const std::string& skip_dir) : skip_(skip_dir.empty() ? fs::path() : absolute_normal(skip_dir)) {}
+
+  void add_input(const std::string& input) {
+    std::error_code error;
+    if (fs::is_directory(input, error)) return add_folder(input);
+    if (!fs::exists(input, error)) fail("{}: no such file or folder", input);
+    if (!has_table_extension(input) && looks_like_text(input)) return add_manifest(input);
+    add_table(input);
+  }
+
+  std::vector<fs::path> take() { return std::move(tables_); }
+
+ private:
+  void add_table(const fs::path& path) {
+    const fs::path absolute = absolute_normal(path);
+    if (seen_.insert(absolute).second) tables_.push_back(absolute);
+  }
+
+  void add_folder(const fs::path& folder) {
+    std::vector<fs::path> found;
+    std::error_code error;
+    for (auto it = fs::recursive_directory_iterator(folder, fs::directory_options::skip_permission_denied, error);
+         !error && it != fs::recursive_directory_iterator(); it.increment(error)) {
+      if (is_inside(absolute_normal(it->path()), skip_)) {
+        if (it->is_directory()) it.disable_recursion_pending();
+        continue;
+      }
+      if (it->is_regular_file() && has_table_extension(it->path())) found.push_back(it->path());
+    }
+    if (error) fail("{}: cannot list the folder: {}", folder.string(), error.message());
+    if (found.empty()) fail("{}: no tables (.binary, .bsdf, .csv) in this folder", folder.string());
+    std::sort(found.begin(), found.end());
+    for (const fs::path& table : found) add_table(table);
+  }
+
+  void add_manifest(const fs::path& manifest) {
+    std::istringstream lines(read_file(manifest.string()));
+    std::string line;
+    size_t entries = 0;
+    while (std::getline(lines, line)) {
+      const size_t begin = line.find_first_not_of(" \t\r"), end = line.find_last_not_of(" \t\r");
+      if (begin == std::string::npos || line[begin] == '#') continue;
+      const fs::path entry = manifest.parent_path() / line.substr(begin, end - begin + 1);
+      std::error_code error;
+      if (fs::is_directory(entry, error))
+        add_folder(entry);
+      else
+        add_table(entry);  // missing or unreadable: that material fails when its turn comes
+      ++entries;
+    }
+    if (entries == 0) fail("{}: the manifest lists no tables", manifest.string());
+  }
+
+  fs::path skip_;
+  std::set<fs::path> seen_;
+  std::vector<fs::path> tables_;
+};
+
+// A file name safe on every system: letters, digits, '.', '-' and '_'.
+std::string file_name_safe(const std::string& name) {
+  std::string safe = name;
+  for (char& c : safe)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-' && c != '_') c = '_';
+  return safe.empty() ? "material" : safe;
+}
+
+std::string material_name(const fs::path& table) {
+  return file_name_safe(has_table_extension(table) ? table.stem().string() : table.filename().string());
+}
+
+// The models that failed and why, "model: reason; ...".
+std::string failed_models(const std::vector<FitResult>& fits) {
+  std::string text;
+  for (const FitResult& fit : fits)
+    if (!fit.ok) text += (text.empty() ? "" : "; ") + fit.model + ": " + fit.error;
+  return text;
+}
+
+// The existing result document of a material when it is complete and current: the same input
+// bytes, the same fitting settings, and every requested model fitted ok.
+std::optional<FitDocument> completed_document(const std::string& result_path, const BatchMaterial& material,
+                                              const BatchOptions& options) {
+  std::error_code error;
+  if (!fs::exists(result_path, error)) return std::nullopt;
+  FitDocument document;
+  try {
+    document = read_fit_document(result_path);
+  } catch (const Error&) {
+    return std::nullopt;  // unreadable (e.g. from an older version): fitted again and replaced
+  }
+  // The header a new fit would write, for the same input file and options.
+  const nlohmann::json current = fit_document_json(material.path, SampleSet{}, options.fit, {});
+  for (const char* key : {"input", "metric", "per_channel", "loss"})
+    if (document.json.value(key, nlohmann::json()) != current[key]) return std::nullopt;
+  for (const Model* model : options.models) {
+    const auto fit = std::find_if(document.results.begin(), document.results.end(),
+                                  [&](const FitResult& r) { return r.model == model->name(); });
+    if (fit == document.results.end() || !fit->ok) return std::nullopt;
+  }
+  return document;
+}
+
+// Only the requested models, in the requested order (a resumed document may hold more).
+std::vector<FitResult> requested_fits(const std::vector<FitResult>& fits, const std::vector<const Model*>& models) {
+  std::vector<FitResult> selected;
+  for (const Model* model : models)
+    for (const FitResult& fit : fits)
+      if (fit.model == model->name()) selected.push_back(fit);
+  return selected;
+}
+
+MaterialOutcome process_material(const BatchMaterial& material, const BatchOptions& options, const FitOptions& fit) {
+  const auto started = std::chrono::steady_clock::now();
+  MaterialOutcome outcome;
+  outcome.material = material;
+  const std::string result_path = (fs::path(options.out_dir) / (material.name + ".json")).string();
+  try {
+    std::optional<FitDocument> done;
+    if (options.resume) done = completed_document(result_path, material, options);
+    if (done) {
+      outcome.status = MaterialStatus::Ok;
+      outcome.resumed = true;
+      outcome.fits = requested_fits(done->results, options.models);
+      outcome.result_path = result_path;
+    } else {
+      // Read only now, and released when this material is done: memory holds `jobs` tables at most.
+      const SampleSet data = load_samples(material.path, options.sampling);
+      if (data.empty()) fail("{}: no samples left to fit (check --max-angle)", material.path);
+      outcome.fits = fit_models(options.models, data, fit);
+      nlohmann::json document = fit_document_json(material.path, data, fit, outcome.fits);
+      document["material"] = material.name;
+      write_file_atomic(result_path, document.dump(2) + "\n");
+      outcome.result_path = result_path;
+      outcome.error = failed_models(outcome.fits);
+      outcome.status = outcome.error.empty() ? MaterialStatus::Ok : MaterialStatus::Partial;
+    }
+  } catch (const std::exception& e) {  // Error, and e.g. bad_alloc: the batch goes on
+    outcome.status = MaterialStatus::Failed;
+    outcome.error = e.what();
+    outcome.fits.clear();
+    outcome.result_path.clear();
+  }
+  outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  return outcome;
+}
+
+const FitResult* best_fit(const MaterialOutcome& outcome, Metric metric) {
+  const FitResult* best = nullptr;
+  for (const FitResult& fit : outcome.fits)
+    if (fit.ok && std::isfinite(fit.metrics.get(metric)) && (!best || fit.metrics.get(metric) < best->metrics.get(metric)))
+      best = &fit;
+  return best;
+}
+
+const FitResult* find_fit(const MaterialOutcome& outcome, const std::string& model) {
+  for (const FitResult& fit : outcome.fits)
+    if (fit.model == model) return &fit;
+  return nullptr;
+}
+
+// A model's error on a material under the metric, when it fitted.
+std::optional<double> fitted_error(const MaterialOutcome& outcome, const std::string& model, Metric metric) {
+  const FitResult* fit = find_fit(outcome, model);
+  if (!fit || !fit->ok || !std::isfinite(fit->metrics.get(metric))) return std::nullopt;
+  return fit->metrics.get(metric);
+}
+
+}  // namespace
+
+const char* material_status_name(MaterialStatus status) {
+  switch (status) {
+    case MaterialStatus::Ok: return "ok";
+    case MaterialStatus::Partial: return "partial";
+    case MaterialStatus::Failed: break;
+  }
+  return "failed";
+}
+
+std::vector<BatchMaterial> batch_materials(const std::vector<std::string>& inputs, const std::string& skip_dir) {
+  TableList list(skip_dir);
+  for (const std::string& input : inputs) list.add_input(input);
+  std::vector<BatchMaterial> materials;
+  std::set<std::string> taken = {"summary"};  // summary.json is the batch's own
+  for (const fs::path& table : list.take()) {
+    const std::string base = material_name(table);
+    std::string name = base;
+    for (int n = 2; taken.count(name); ++n) name = base + "-" + std::to_string(n);
+    taken.insert(name);
+    materials.push_back({name, table.string()});
+  }
+  return materials;
+}
+
+std::vector<MaterialOutcome> run_batch(const std::vector<BatchMaterial>& materials, const BatchOptions& options,
+                                       const BatchEvents& events) {
+  std::error_code error;
+  fs::create_directories(options.out_dir, error);
+  if (error || !fs::is_directory(options.out_dir))
+    fail("{}: cannot create the output folder{}", options.out_dir, error ? ": " + error.message() : "");
+
+  const int jobs = static_cast<int>(std::clamp<size_t>(static_cast<size_t>(std::max(1, options.jobs)), 1,
+                                                       std::max<size_t>(materials.size(), 1)));
+  FitOptions fit = options.fit;
+  // The fitter is parallel itself: the cores are shared among the materials fitted at once.
+  if (fit.threads <= 0) fit.threads = std::max(1, thread_count(0) / jobs);
+
+  std::vector<MaterialOutcome> outcomes(materials.size());
+  std::atomic<size_t> next{0};
+  std::mutex events_mutex;
+  // Materials are taken in order as workers free up: tables differ in size, so a fixed split
+  // would leave workers idle.
+  const auto worker = [&] {
+    for (size_t i = next++; i < materials.size(); i = next++) {
+      if (events.started) {
+        const std::lock_guard<std::mutex> lock(events_mutex);
+        events.started(materials[i]);
+      }
+      outcomes[i] = process_material(materials[i], options, fit);
+      if (events.finished) {
+        const std::lock_guard<std::mutex> lock(events_mutex);
+        events.finished(outcomes[i]);
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int j = 1; j < jobs; ++j) pool.emplace_back(worker);
+  worker();
+  for (std::thread& thread : pool) thread.join();
+  return outcomes;
+}
+
+nlohmann::json batch_summary_json(const std::vector<MaterialOutcome>& outcomes, const BatchOptions& options,
+                                  double seconds) {
+  const Metric metric = options.fit.metric;
+  nlohmann::json models = nlohmann::json::array();
+  for (const Model* model : options.models) models.push_back(model->name());
+  std::map<std::string, int> counts = {{"ok", 0}, {"partial", 0}, {"failed", 0}, {"resumed", 0}};
+  nlohmann::json materials = nlohmann::json::array();
+  for (const MaterialOutcome& o : outcomes) {
+    ++counts[material_status_name(o.status)];
+    if (o.resumed) ++counts["resumed"];
+    nlohmann::json errors = nlohmann::json::object();
+    for (const Model* model : options.models) {
+      const std::optional<double> e = fitted_error(o, model->name(), metric);
+      errors[model->name()] = e ? nlohmann::json(*e) : nlohmann::json(nullptr);
+    }
+    const FitResult* best = best_fit(o, metric);
+    materials.push_back({{"material", o.material.name},
+                         {"input", o.material.path},
+                         {"result", o.result_path.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.result_path)},
+                         {"status", material_status_name(o.status)},
+                         {"resumed", o.resumed},
+                         {"error", o.error.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.error)},
+                         {"seconds", o.seconds},
+                         {"best_model", best ? nlohmann::json(best->model) : nlohmann::json(nullptr)},
+                         {"errors", errors}});
+  }
+  return {{"schema", 1},
+          {"tool", "brdffit " BRDFFIT_VERSION},
+          {"metric", metric_name(metric)},
+          {"models", models},
+          {"materials", materials},
+          {"counts", counts},
+          {"seconds", seconds}};
+}
+
+std::string batch_summary_csv(const std::vector<MaterialOutcome>& outcomes, const BatchOptions& options) {
+  const Metric metric = options.fit.metric;
+  std::string csv = "material,input,status,resumed,error,best_model,best_error,seconds";
+  for (const Model* model : options.models) csv += "," + csv_field(model->name());
+  csv += "\n";
+  for (const MaterialOutcome& o : outcomes) {
+    const FitResult* best = best_fit(o, metric);
+    csv += fmt::format("{},{},{},{},{},{},{},{:.3f}", csv_field(o.material.name), csv_field(o.material.path),
+                       material_status_name(o.status), o.resumed ? "yes" : "no", csv_field(o.error),
+                       best ? csv_field(best->model) : "", best ? fmt::format("{:.9g}", best->metrics.get(metric)) : "",
+                       o.seconds);
+    for (const Model* model : options.models) {
+      const std::optional<double> e = fitted_error(o, model->name(), metric);
+      csv += e ? fmt::format(",{:.9g}", *e) : ",";
+    }
+    csv += "\n";
+  }
+  return csv;
+}
+
+}  // namespace brdffit

@@ -1,0 +1,179 @@
+// Pictures of reflectance (see render.h).
+#include "brdffit/render.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+
+#include "brdffit/error.h"
+#include "brdffit/image_io.h"
+#include "brdffit/parallel.h"
+#include "brdffit/rusinkiewicz.h"
+#include "brdffit/sphere.h"
+
+namespace brdffit {
+
+namespace {
+
+// What pictures show where there is no data (below the horizon, off the sphere in error maps):
+// a dark grey, distinct from black (no light) and from the heatmap's zero.
+constexpr float kNoData = 0.03f;
+
+cv::Vec3f to_pixel(const Rgb<double>& rgb) {
+  return cv::Vec3f(static_cast<float>(rgb[0]), static_cast<float>(rgb[1]), static_cast<float>(rgb[2]));
+}
+
+}  // namespace
+
+BrdfFunction measured_brdf(const MeasuredBrdf& table) {
+  return [&table](const Vec3& l, const Vec3& v) { return table.eval(l, v); };
+}
+
+BrdfFunction fitted_brdf(const Model& model, const FitResult& fit) {
+  const auto fits_model = [&](const std::vector<double>& values) {
+    return static_cast<int>(values.size()) == model.num_values();
+  };
+  if (!fits_model(fit.values) || !std::all_of(fit.channel_values.begin(), fit.channel_values.end(), fits_model) ||
+      (!fit.channel_values.empty() && fit.channel_values.size() != 3))
+    fail("{}: the result has {} values, the model has {}", model.name(), fit.values.size(), model.num_values());
+  return [&model, &fit](const Vec3& l, const Vec3& v) -> Rgb<double> {
+    if (l.z() <= 0.0) return Rgb<double>::Zero();
+    return shade_fitted(model, fit.values, fit.channel_values, l, v) / l.z();
+  };
+}
+
+Vec3 light_in_camera_frame(const SphereLighting& lighting) {
+  const Vec3 light = normalized_or_zero(lighting.light), view = normalized_or_zero(lighting.view);
+  if (light.isZero() || view.isZero()) fail("--light and --view must be non-zero directions");
+  const Vec3 up = std::abs(view.y()) > 0.999 ? Vec3::UnitZ() : Vec3::UnitY();
+  const Vec3 right = up.cross(view).normalized();
+  const Vec3 camera_up = view.cross(right);
+  return Vec3(right.dot(light), camera_up.dot(light), view.dot(light));
+}
+
+cv::Mat render_measured_sphere(const MeasuredBrdf& table, const SphereLighting& lighting, int size) {
+  const Vec3 light = light_in_camera_frame(lighting);
+  const SphereView sphere = SphereView::centred(size);
+  cv::Mat image(size, size, CV_32FC3, cv::Scalar::all(0.0));
+  // The same pixels, normals and shading frames as render_sphere, with the table's f·cosθi.
+  parallel_for(static_cast<size_t>(size), thread_count(0), [&](size_t row) {
+    const int y = static_cast<int>(row);
+    for (int x = 0; x < size; ++x) {
+      Vec3 normal, view;
+      if (!sphere.surface_at(x, y, normal, view)) continue;
+      const LocalFrame frame(normal);
+      const Vec3 l = frame.to_local(light);
+      if (l.z() > 0.0) image.at<cv::Vec3f>(y, x) = to_pixel(table.eval(l, frame.to_local(view)) * l.z());
+    }
+  });
+  return image;
+}
+
+cv::Mat render_fitted_sphere(const Model& model, const FitResult& fit, const SphereLighting& lighting, int size) {
+  fitted_brdf(model, fit);  // checks the values
+  return render_sphere(model, fit.values, SphereView::centred(size), light_in_camera_frame(lighting), cv::Size(size, size),
+                       fit.channel_values);
+}
+
+cv::Mat sphere_mask(int size) {
+  const SphereView sphere = SphereView::centred(size);
+  cv::Mat mask(size, size, CV_8U, cv::Scalar(0));
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      Vec3 normal, view;
+      if (sphere.surface_at(x, y, normal, view)) mask.at<uint8_t>(y, x) = 255;
+    }
+  return mask;
+}
+
+cv::Mat half_diff_slice(const BrdfFunction& brdf, int size) {
+  cv::Mat image(size, size, CV_32FC3);
+  parallel_for(static_cast<size_t>(size), thread_count(0), [&](size_t row) {
+    const int y = static_cast<int>(row);
+    for (int x = 0; x < size; ++x) {
+      const double u = (x + 0.5) / size;
+      HalfDiff angles;
+      angles.theta_h = u * u * (kPi / 2);
+      angles.theta_d = (y + 0.5) / size * (kPi / 2);
+      angles.phi_d = kPi / 2;
+      Vec3 l, v;
+      from_half_diff(angles, l, v);
+      image.at<cv::Vec3f>(y, x) = l.z() > 0.0 && v.z() > 0.0 ? to_pixel(brdf(l, v)) : cv::Vec3f::all(NAN);
+    }
+  });
+  return image;
+}
+
+std::vector<double> in_plane_curve(const BrdfFunction& brdf, double theta_i_deg, int points) {
+  const double theta_i = theta_i_deg * kPi / 180.0;
+  const Vec3 l(-std::sin(theta_i), 0.0, std::cos(theta_i));
+  std::vector<double> curve;
+  for (int k = 0; k < points; ++k) {
+    const double theta_o = (-89.0 + 178.0 * k / std::max(points - 1, 1)) * kPi / 180.0;
+    curve.push_back(rec709_luminance(brdf(l, Vec3(std::sin(theta_o), 0.0, std::cos(theta_o)))));
+  }
+  return curve;
+}
+
+cv::Mat tone_map(const cv::Mat& linear, double reference) {
+  // Extended Reinhard: d = x(1 + x/w²)/(1 + x) with x in units of the reference and w = 4 the
+  // white point; x = 1 gives d ≈ 0.53, which sRGB shows at about 75%.
+  constexpr double kWhite = 4.0;
+  cv::Mat display(linear.size(), CV_32FC3);
+  for (int y = 0; y < linear.rows; ++y)
+    for (int x = 0; x < linear.cols; ++x) {
+      const cv::Vec3f& in = linear.at<cv::Vec3f>(y, x);
+      cv::Vec3f& out = display.at<cv::Vec3f>(y, x);
+      for (int c = 0; c < 3; ++c) {
+        if (std::isnan(in[c])) {
+          out = cv::Vec3f::all(kNoData);
+          break;
+        }
+        const double v = std::max(0.0, static_cast<double>(in[c])) / reference;
+        out[c] = static_cast<float>(std::min(1.0, v * (1.0 + v / (kWhite * kWhite)) / (1.0 + v)));
+      }
+    }
+  return display;
+}
+
+double tone_reference(const cv::Mat& linear, const cv::Mat& mask) {
+  std::vector<float> brightest;
+  for (int y = 0; y < linear.rows; ++y)
+    for (int x = 0; x < linear.cols; ++x) {
+      if (!mask.empty() && !mask.at<uint8_t>(y, x)) continue;
+      const cv::Vec3f& p = linear.at<cv::Vec3f>(y, x);
+      const float b = std::max({p[0], p[1], p[2]});
+      if (std::isfinite(b)) brightest.push_back(b);
+    }
+  if (brightest.empty()) return 1.0;
+  // Nearest-rank percentile: the smallest value with at least 99% of the values at or below it.
+  auto q99 = brightest.begin() + static_cast<std::ptrdiff_t>(std::ceil(0.99 * brightest.size()) - 1);
+  std::nth_element(brightest.begin(), q99, brightest.end());
+  return *q99 > 0.0f ? *q99 : 1.0;
+}
+
+cv::Mat channel_max_difference(const cv::Mat& a, const cv::Mat& b) {
+  cv::Mat difference(a.size(), CV_32F);
+  for (int y = 0; y < a.rows; ++y)
+    for (int x = 0; x < a.cols; ++x) {
+      const cv::Vec3f &p = a.at<cv::Vec3f>(y, x), &q = b.at<cv::Vec3f>(y, x);
+      float d = 0.0f;
+      for (int c = 0; c < 3; ++c) d = std::max(d, std::fabs(p[c] - q[c]));
+      const bool missing = std::isnan(p[0] + p[1] + p[2] + q[0] + q[1] + q[2]);
+      difference.at<float>(y, x) = missing ? NAN : d;
+    }
+  return difference;
+}
+
+cv::Mat error_heatmap(const cv::Mat& difference, double full_scale, const cv::Mat& mask) {
+  cv::Mat finite = difference.clone();
+  cv::patchNaNs(finite, 0.0);
+  cv::Mat image = heatmap(finite, full_scale);
+  for (int y = 0; y < image.rows; ++y)
+    for (int x = 0; x < image.cols; ++x)
+      if (std::isnan(difference.at<float>(y, x)) || (!mask.empty() && !mask.at<uint8_t>(y, x)))
+        image.at<cv::Vec3f>(y, x) = cv::Vec3f::all(kNoData);
+  return image;
+}
+
+}  // namespace brdffit

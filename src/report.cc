@@ -1,0 +1,348 @@
+// The HTML report (see report.h).
+#include "brdffit/report.h"
+
+#include <fmt/format.h>
+#include <openssl/evp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "brdffit/compare.h"
+#include "brdffit/error.h"
+#include "brdffit/image_io.h"
+#include "brdffit/io.h"
+#include "brdffit/measured.h"
+#include "brdffit/model.h"
+
+namespace brdffit {
+
+namespace {
+
+// Error heatmaps are full at this fraction of the tone mapping's reference.
+constexpr double kErrorFullScale = 0.25;
+// Polar plots: the radius is log10 f over this many decades below the top one.
+constexpr int kPolarDecades = 3;
+constexpr int kCurvePoints = 179;  // θo = -89°..89° in 1° steps
+constexpr const char* kIncidenceColours[] = {"#1f77b4", "#2ca02c", "#d62728", "#9467bd", "#ff7f0e"};
+
+std::string html(const std::string& text) { return escape_markup(text); }
+
+std::string anchor(const std::string& material) {
+  std::string id = "m-";
+  for (char c : material) id += std::isalnum(static_cast<unsigned char>(c)) ? c : '-';
+  return id;
+}
+
+std::string format_values(const std::vector<double>& xs) {
+  if (xs.size() == 1) return fmt::format("{:.4g}", xs[0]);
+  std::string out = "[";
+  for (size_t i = 0; i < xs.size(); ++i) out += fmt::format("{}{:.4g}", i ? ", " : "", xs[i]);
+  return out + "]";
+}
+
+std::string parameters_html(const FitResult& fit) {
+  std::string out;
+  for (const ParameterEstimate& p : fit.parameters) {
+    out += fmt::format("<div>{} {}{}{}</div>", html(p.name), format_values(p.value), p.at_bound ? " <i>at bound</i>" : "",
+                       p.identifiable ? "" : " <i>not identifiable</i>");
+  }
+  return out;
+}
+
+std::string image_tag(const cv::Mat& display, const std::string& alt) {
+  return fmt::format("<img src=\"{}\" alt=\"{}\" width=\"{}\" height=\"{}\">", png_data_uri(display), html(alt),
+                     display.cols, display.rows);
+}
+
+// One row of pictures: the measured table's or one model's.
+struct Row {
+  std::string label;
+  const FitResult* fit = nullptr;  // null for the measured row
+  double error = NAN;              // under the ranking metric
+  std::string note;                // why the row has no pictures
+  cv::Mat sphere, slice;           // linear
+  std::vector<std::vector<double>> curves;  // luminance of f, one per incidence angle
+};
+
+void draw_row(Row& row, const BrdfFunction& brdf, const cv::Mat& sphere, const ReportOptions& options) {
+  row.sphere = sphere;
+  row.slice = half_diff_slice(brdf, options.slice_size);
+  for (double theta_i : options.incidence_deg) row.curves.push_back(in_plane_curve(brdf, theta_i, kCurvePoints));
+}
+
+// The radius of a polar plot: log10 f over kPolarDecades decades, the top one just above the
+// largest measured value.
+struct PolarScale {
+  double top = 0.0;  // log10 of the value at the rim
+  double radius(double f) const {
+    if (!(f > 0.0)) return 0.0;
+    return std::clamp((std::log10(f) - (top - kPolarDecades)) / kPolarDecades, 0.0, 1.08);
+  }
+};
+
+PolarScale polar_scale(const std::vector<const Row*>& rows) {
+  double largest = 0.0;
+  for (const Row* row : rows)
+    for (const auto& curve : row->curves)
+      for (double f : curve)
+        if (std::isfinite(f)) largest = std::max(largest, f);
+  return {largest > 0.0 ? std::ceil(std::log10(largest)) : 0.0};
+}
+
+std::string polyline(const std::vector<double>& curve, const PolarScale& scale, double cx, double cy, double r,
+                     const char* colour, bool dashed) {
+  std::string points;
+  for (size_t k = 0; k < curve.size(); ++k) {
+    const double theta = (-89.0 + 178.0 * k / (curve.size() - 1)) * kPi / 180.0;
+    const double rho = scale.radius(curve[k]) * r;
+    points += fmt::format("{:.1f},{:.1f} ", cx + rho * std::sin(theta), cy - rho * std::cos(theta));
+  }
+  return fmt::format("<polyline points=\"{}\" fill=\"none\" stroke=\"{}\" stroke-width=\"1.5\"{}/>", points, colour,
+                     dashed ? " stroke-dasharray=\"4 3\"" : "");
+}
+
+// The plane of incidence, normal up, light on the left: dashed the measured curves, solid the model's.
+std::string polar_svg(const Row* measured, const Row* model, const PolarScale& scale, const ReportOptions& options) {
+  const double width = 220, height = 122, cx = 110, cy = 114, r = 100;
+  std::string svg = fmt::format(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" viewBox=\"0 0 {} {}\" class=\"polar\">",
+      width, height, width, height);
+  svg += fmt::format("<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"#bbb\"/>", cx - r, cy, cx + r, cy);
+  svg += fmt::format("<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"#ddd\"/>", cx, cy, cx, cy - r);
+  for (int decade = 1; decade <= kPolarDecades; ++decade) {
+    const double ring = r * decade / kPolarDecades;
+    svg += fmt::format("<path d=\"M {:.1f} {:.1f} A {:.1f} {:.1f} 0 0 1 {:.1f} {:.1f}\" fill=\"none\" stroke=\"#ddd\"/>",
+                       cx - ring, cy, ring, ring, cx + ring, cy);
+    svg += fmt::format("<text x=\"{:.1f}\" y=\"{:.1f}\" font-size=\"8\" fill=\"#888\">1e{}</text>", cx + ring - 10,
+                       cy + 7, static_cast<int>(scale.top) - kPolarDecades + decade);
+  }
+  for (size_t i = 0; i < options.incidence_deg.size(); ++i) {
+    const char* colour = kIncidenceColours[i % std::size(kIncidenceColours)];
+    const double theta = options.incidence_deg[i] * kPi / 180.0;  // the light, on the -x side
+    svg += fmt::format("<line x1=\"{:.1f}\" y1=\"{:.1f}\" x2=\"{:.1f}\" y2=\"{:.1f}\" stroke=\"{}\" stroke-width=\"3\"/>",
+                       cx - r * 1.0 * std::sin(theta), cy - r * 1.0 * std::cos(theta), cx - r * 1.08 * std::sin(theta),
+                       cy - r * 1.08 * std::cos(theta), colour);
+    if (measured) svg += polyline(measured->curves[i], scale, cx, cy, r, colour, true);
+    if (model) svg += polyline(model->curves[i], scale, cx, cy, r, colour, false);
+  }
+  return svg + "</svg>";
+}
+
+// A horizontal colour bar of the error heatmap, shared by every legend.
+std::string colour_bar() {
+  cv::Mat ramp(12, 160, CV_32F);
+  for (int x = 0; x < ramp.cols; ++x) ramp.col(x).setTo((x + 0.5) / ramp.cols);
+  return image_tag(heatmap(ramp, 1.0), "error colour scale");
+}
+
+const char* kStyle = R"(
+body { font-family: system-ui, sans-serif; margin: 2em auto; max-width: 1400px; padding: 0 1em; color: #222; }
+h1 { margin-bottom: 0.2em; } h2 { margin-top: 2em; border-bottom: 1px solid #ccc; }
+table { border-collapse: collapse; margin: 0.8em 0; }
+th, td { padding: 3px 8px; border-bottom: 1px solid #eee; vertical-align: middle; }
+td.num { text-align: right; font-variant-numeric: tabular-nums; }
+.matrix td.best { background: #d9f0d3; font-weight: bold; }
+.matrix td.failed, .failed { color: #999; font-style: italic; }
+.pictures td { padding: 2px; }
+.pictures th.row { text-align: left; min-width: 9em; font-weight: normal; }
+.pictures img { display: block; background: #000; }
+img.slice { image-rendering: pixelated; }
+.params { font-size: 0.8em; color: #555; }
+.meta, .legend { color: #555; font-size: 0.9em; }
+.legend img { display: inline-block; vertical-align: middle; margin: 0 0.4em; }
+.note { background: #fff4ce; padding: 0.4em 0.8em; }
+#image-check[data-broken]:not([data-broken="0"]) { background: #fdd; padding: 0.4em; }
+)";
+
+// Marks images that did not load, for people and for the headless-browser test.
+const char* kImageCheck = R"(<script>
+window.addEventListener('load', function () {
+  var images = Array.prototype.slice.call(document.images);
+  var broken = images.filter(function (i) { return !(i.complete && i.naturalWidth > 0); });
+  var status = document.getElementById('image-check');
+  status.setAttribute('data-total', images.length);
+  status.setAttribute('data-broken', broken.length);
+  if (broken.length) status.textContent = broken.length + ' of ' + images.length + ' images failed to load';
+});
+</script>)";
+
+std::string comparison_html(const Comparison& c) {
+  const std::string metric = metric_name(c.metric);
+  std::string out = "<section id=\"comparison\"><h2>Models over all materials</h2>";
+  out += fmt::format(
+      "<table class=\"summary\"><tr><th>model</th><th>fitted</th><th>failed</th><th>mean {0}</th><th>median {0}</th>"
+      "<th>mean rank</th><th>best on</th></tr>",
+      metric);
+  const auto number = [](double x) { return std::isfinite(x) ? fmt::format("{:.4g}", x) : std::string("–"); };
+  for (const ModelSummary& m : c.models)
+    out += fmt::format(
+        "<tr><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td>"
+        "<td class=\"num\">{:.2f}</td><td class=\"num\">{}</td></tr>",
+        html(m.model), m.materials - m.failed, m.failed, number(m.mean_error), number(m.median_error), m.mean_rank, m.wins);
+  out += "</table><h3>Error per material (rank)</h3><table class=\"matrix\"><tr><th>material</th>";
+  for (const ModelSummary& m : c.models) out += "<th>" + html(m.model) + "</th>";
+  out += "</tr>";
+  for (const MaterialRanking& material : c.materials) {
+    out += fmt::format("<tr><td><a href=\"#{}\">{}</a></td>", anchor(material.material), html(material.material));
+    for (const ModelSummary& m : c.models) {
+      const RankedModel* r = material.find(m.model);
+      if (!r)
+        out += "<td></td>";
+      else if (!r->ok)
+        out += "<td class=\"failed\">failed</td>";
+      else
+        out += fmt::format("<td class=\"num{}\">{:.4g} ({})</td>", r->rank == 1 ? " best" : "", r->error, r->rank);
+    }
+    out += "</tr>";
+  }
+  return out + "</table></section>\n";
+}
+
+std::string material_html(const FitDocument& document, const MaterialRanking& ranking, const ReportOptions& options,
+                          const std::string& bar) {
+  std::string notes;
+  std::unique_ptr<MeasuredBrdf> table;
+  try {
+    table = open_measured(document.input_path);
+    const nlohmann::json& recorded = document.json["input"]["sha256"];
+    if (recorded.is_string() && recorded.get<std::string>() != sha256_file(document.input_path))
+      notes += "<p class=\"note\">The table has changed since it was fitted: the pictures show its current contents.</p>";
+  } catch (const Error& e) {
+    notes += fmt::format("<p class=\"note\">No measured pictures: {}</p>", html(e.what()));
+  }
+
+  // Rows: the measured table, then the models best first (failed ones only listed).
+  std::vector<Row> rows;
+  rows.reserve(ranking.models.size() + 1);
+  const int size = options.sphere_size;
+  if (table) {
+    rows.emplace_back();
+    rows.back().label = "measured";
+    draw_row(rows.back(), measured_brdf(*table), render_measured_sphere(*table, options.lighting, size), options);
+  }
+  std::string failures;
+  int pictured = 0;
+  for (const RankedModel& ranked : ranking.models) {
+    const auto fit = std::find_if(document.results.begin(), document.results.end(),
+                                  [&](const FitResult& r) { return r.model == ranked.model; });
+    if (!ranked.ok) {
+      const std::string why = fit != document.results.end() && !fit->error.empty() ? fit->error : "no error value";
+      failures += fmt::format("<li>{}: {}</li>", html(ranked.model), html(why));
+      continue;
+    }
+    if (options.top > 0 && pictured >= options.top) continue;
+    ++pictured;
+    Row row;
+    row.label = fmt::format("{}. {}", ranked.rank, ranked.model);
+    row.fit = &*fit;
+    row.error = ranked.error;
+    const Model* model = find_model(ranked.model);
+    try {
+      if (!model) fail("not a model of this version of brdffit");
+      draw_row(row, fitted_brdf(*model, *fit), render_fitted_sphere(*model, *fit, options.lighting, size), options);
+    } catch (const Error& e) {
+      row.note = e.what();
+    }
+    rows.push_back(std::move(row));
+  }
+
+  // One tone mapping and one polar scale for the material: the measured pictures', else the best model's.
+  const cv::Mat mask = sphere_mask(size);
+  const auto pictured_row = std::find_if(rows.begin(), rows.end(), [](const Row& r) { return !r.sphere.empty(); });
+  const Row* measured = table ? &rows.front() : nullptr;
+  const double sphere_reference = pictured_row == rows.end() ? 1.0 : tone_reference(pictured_row->sphere, mask);
+  const double slice_reference = pictured_row == rows.end() ? 1.0 : tone_reference(pictured_row->slice);
+  std::vector<const Row*> scale_rows;
+  for (const Row& row : rows)
+    if (!row.curves.empty() && (!measured || &row == measured)) scale_rows.push_back(&row);
+  const PolarScale scale = polar_scale(scale_rows);
+
+  std::string out = fmt::format("<section class=\"material\" id=\"{}\"><h2>{}</h2>", anchor(ranking.material),
+                                html(ranking.material));
+  out += fmt::format("<p class=\"meta\">{} · {} samples ({} weights) · result {}</p>", html(document.input_path),
+                     document.json.value("samples", 0), html(document.json.value("weighting", "?")), html(document.path));
+  out += notes;
+  std::string incidence;
+  for (size_t i = 0; i < options.incidence_deg.size(); ++i)
+    incidence += fmt::format("{}<span style=\"color:{}\">θi = {:g}°</span>", i ? ", " : "",
+                             kIncidenceColours[i % std::size(kIncidenceColours)], options.incidence_deg[i]);
+  const Vec3& l = options.lighting.light;
+  const Vec3& v = options.lighting.view;
+  out += fmt::format(
+      "<p class=\"legend\">Spheres: light from ({:.2g}, {:.2g}, {:.2g}), seen from ({:.2g}, {:.2g}, {:.2g}); f·cosθi "
+      "tone-mapped with reference {:.4g} ({}). Slices: f at φd = 90°, θh → right (√-spaced), θd ↓, reference {:.4g}.<br>"
+      "Errors |fit − measured| (largest channel): spheres 0 {} {:.3g}, slices 0 {} {:.3g}.<br>"
+      "In-plane curves, log10 f over {} decades, light on the left: {}; dashed measured, solid model.</p>",
+      l.x(), l.y(), l.z(), v.x(), v.y(), v.z(), sphere_reference,
+      measured ? "99th percentile of the measured sphere" : "the best model's, no measured data", slice_reference, bar,
+      kErrorFullScale * sphere_reference, bar, kErrorFullScale * slice_reference, kPolarDecades, incidence);
+
+  out += "<table class=\"pictures\"><tr><th></th><th>sphere</th><th>sphere error</th><th>θh/θd slice</th>"
+         "<th>slice error</th><th>in plane</th><th>parameters</th></tr>";
+  for (const Row& row : rows) {
+    const bool is_measured = &row == measured;
+    out += "<tr><th class=\"row\">" + html(row.label);
+    if (!is_measured) out += fmt::format("<br><span class=\"params\">{} {:.4g}</span>", metric_name(*options.metric), row.error);
+    out += "</th>";
+    if (!row.note.empty()) {
+      out += fmt::format("<td colspan=\"6\" class=\"failed\">{}</td></tr>", html(row.note));
+      continue;
+    }
+    out += "<td>" + image_tag(tone_map(row.sphere, sphere_reference), row.label + " sphere") + "</td><td>";
+    if (measured && !is_measured)
+      out += image_tag(error_heatmap(channel_max_difference(row.sphere, measured->sphere),
+                                     kErrorFullScale * sphere_reference, mask),
+                       row.label + " sphere error");
+    out += "</td><td>" + image_tag(tone_map(row.slice, slice_reference), row.label + " slice") + "</td><td>";
+    if (measured && !is_measured)
+      out += image_tag(error_heatmap(channel_max_difference(row.slice, measured->slice), kErrorFullScale * slice_reference),
+                       row.label + " slice error");
+    out += "</td><td>" + polar_svg(measured, is_measured ? nullptr : &row, scale, options) + "</td>";
+    out += "<td class=\"params\">" + (row.fit ? parameters_html(*row.fit) : std::string()) + "</td></tr>";
+  }
+  out += "</table>";
+  if (!failures.empty()) out += "<p class=\"failed\">Fits that failed:</p><ul class=\"failed\">" + failures + "</ul>";
+  return out + "</section>\n";
+}
+
+}  // namespace
+
+std::string png_data_uri(const cv::Mat& display) {
+  cv::Mat srgb = display.clone();
+  linear_to_srgb(srgb);
+  cv::Mat codes, bgr;
+  srgb.convertTo(codes, CV_8UC3, 255.0);  // rounds and saturates
+  cv::cvtColor(codes, bgr, cv::COLOR_RGB2BGR);
+  std::vector<uchar> png;
+  if (!cv::imencode(".png", bgr, png)) fail("internal: cannot encode a PNG image");
+  std::string base64(4 * ((png.size() + 2) / 3) + 1, '\0');
+  const int length = EVP_EncodeBlock(reinterpret_cast<unsigned char*>(base64.data()), png.data(), static_cast<int>(png.size()));
+  base64.resize(static_cast<size_t>(length));
+  return "data:image/png;base64," + base64;
+}
+
+std::string report_html(const std::vector<FitDocument>& documents, const ReportOptions& given) {
+  ReportOptions options = given;
+  if (!options.metric) options.metric = common_metric(documents);
+  const Comparison comparison = compare_results(documents, *options.metric);
+  const std::string bar = colour_bar();
+
+  std::string page = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>brdffit report</title>";
+  page += fmt::format("<style>{}</style></head><body>\n", kStyle);
+  page += fmt::format(
+      "<header><h1>brdffit report</h1><p class=\"meta\">{} materials, {} models, ranked by the {} metric · brdffit {}</p>"
+      "<p id=\"image-check\"></p></header>\n",
+      documents.size(), comparison.models.size(), metric_name(*options.metric), BRDFFIT_VERSION);
+  page += comparison_html(comparison);
+  for (size_t i = 0; i < documents.size(); ++i) {
+    page += material_html(documents[i], comparison.materials[i], options, bar);
+    if (options.progress) options.progress(i, documents.size(), comparison.materials[i].material);
+  }
+  page += kImageCheck;
+  return page + "\n</body></html>\n";
+}
+
+}  // namespace brdffit

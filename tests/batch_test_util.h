@@ -1,0 +1,77 @@
+// Helpers for the batch, compare, render, report and export tests: scratch folders, sample files
+// from a known model, and result documents with known numbers.
+#pragma once
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "brdffit/csv_samples.h"
+#include "brdffit/fit.h"
+#include "brdffit/io.h"
+#include "brdffit/model.h"
+#include "brdffit/result_json.h"
+#include "test_util.h"
+
+namespace brdffit::test {
+
+namespace fs = std::filesystem;
+
+// This process's scratch folder, removed when the test program ends.
+inline fs::path batch_scratch_root() { return fs::temp_directory_path() / ("brdffit-batch-tests-" + std::to_string(::getpid())); }
+
+class BatchScratchCleanup : public ::testing::Environment {
+ public:
+  void TearDown() override {
+    std::error_code ignored;
+    fs::remove_all(batch_scratch_root(), ignored);
+  }
+};
+inline ::testing::Environment* const kBatchScratchCleanup = ::testing::AddGlobalTestEnvironment(new BatchScratchCleanup);
+
+// An empty folder for one test.
+inline std::string fresh_dir(const std::string& name) {
+  const fs::path dir = batch_scratch_root() / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir.string();
+}
+
+// A CSV of `count` samples of a model at the given parameters (random directions, seeded).
+inline std::string write_model_csv(const std::string& path, const std::string& model_name,
+                                   const std::vector<std::string>& assignments, int count = 2000, uint64_t seed = 5) {
+  const Model& model = *find_model(model_name);
+  const std::vector<double> values = parameter_values(model, assignments);
+  SampleSet set;
+  std::mt19937_64 rng(seed);
+  for (int i = 0; i < count; ++i) {
+    const Vec3 l = random_upper_direction(rng, 0.1), v = random_upper_direction(rng, 0.1);
+    set.samples.push_back({l, v, model.shade(values.data(), l, v), 1.0});
+  }
+  write_file_atomic(path, format_csv_samples(set));
+  return path;
+}
+
+// A fit result with a known cosine error (ok) or a failure (NaN error).
+inline FitResult known_result(const std::string& model, double cosine) {
+  FitResult r;
+  r.model = model;
+  r.ok = !std::isnan(cosine);
+  if (!r.ok) r.error = "diverged on purpose";
+  r.metrics.cosine = cosine;
+  r.metrics.log = r.metrics.relative = r.metrics.l2 = r.metrics.max = cosine;
+  if (const Model* m = find_model(model)) r.values = m->default_values();
+  return r;
+}
+
+// A result document for `input` holding the given results, written to `path`.
+inline std::string write_document(const std::string& path, const std::string& input, const std::vector<FitResult>& results) {
+  write_file_atomic(path, fit_document_json(input, SampleSet{}, FitOptions{}, results).dump(2));
+  return path;
+}
+
+}  // namespace brdffit::test

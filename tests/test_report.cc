@@ -1,0 +1,151 @@
+// report: a page built from a real batch (two baked MERL tables and a CSV of samples), every
+// image a valid PNG, and Debian's headless Chromium loading it without a missing image.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <openssl/evp.h>
+
+#include <opencv2/imgcodecs.hpp>
+#include <regex>
+
+#include "batch_test_util.h"
+#include "brdffit/image_io.h"
+#include "brdffit/merl.h"
+
+namespace brdffit {
+
+namespace fs = std::filesystem;
+namespace {
+
+class Report : public ::testing::Test {
+ protected:
+  // One batch and one page for every test here: baking and fitting take a few seconds.
+  static void SetUpTestSuite() {
+    dir_ = test::fresh_dir("report");
+    fs::create_directories(dir_ + "/tables");
+    bake(dir_ + "/tables/plastic.binary", "ggx", {"albedo=0.25,0.1,0.05", "roughness=0.3", "f0=0.04"});
+    bake(dir_ + "/tables/brushed.binary", "ward", {"albedo=0.05", "specular=0.3,0.25,0.1", "alpha=0.15"});
+    test::write_model_csv(dir_ + "/tables/samples.csv", "lambert", {"albedo=0.4,0.4,0.2"});
+    batch_ = test::run_cli("batch " + dir_ + "/tables --models ggx,lambert,ward --max-samples 20000 --out " + dir_ + "/fits");
+    report_ = test::run_cli("report " + dir_ + "/fits --size 96 --out " + dir_ + "/report.html");
+  }
+
+  static void bake(const std::string& path, const std::string& model_name, const std::vector<std::string>& assignments) {
+    const Model& model = *find_model(model_name);
+    const std::vector<double> values = parameter_values(model, assignments);
+    write_merl(path, [&](const Vec3& l, const Vec3& v) { return *model.brdf(values.data(), l, v); });
+  }
+
+  static std::string page() { return read_file(dir_ + "/report.html"); }
+
+  static inline std::string dir_;
+  static inline test::CommandResult batch_, report_;
+};
+
+std::vector<std::string> image_sources(const std::string& html) {
+  std::vector<std::string> sources;
+  const std::regex img("<img src=\"([^\"]*)\"");
+  for (auto it = std::sregex_iterator(html.begin(), html.end(), img); it != std::sregex_iterator(); ++it)
+    sources.push_back((*it)[1].str());
+  return sources;
+}
+
+cv::Mat decode_png_data_uri(const std::string& uri) {
+  const std::string prefix = "data:image/png;base64,";
+  if (uri.rfind(prefix, 0) != 0) return cv::Mat();
+  const std::string base64 = uri.substr(prefix.size());
+  std::vector<unsigned char> bytes(base64.size());
+  const int n = EVP_DecodeBlock(bytes.data(), reinterpret_cast<const unsigned char*>(base64.data()), static_cast<int>(base64.size()));
+  if (n < 0) return cv::Mat();
+  bytes.resize(static_cast<size_t>(n));  // EVP_DecodeBlock counts the padding: PNG ignores trailing bytes
+  return cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
+}
+
+TEST_F(Report, EveryImageIsAnEmbeddedPng) {
+  ASSERT_EQ(batch_.exit_code, 0) << batch_.output;
+  ASSERT_EQ(report_.exit_code, 0) << report_.output;
+  const std::string html = page();
+  EXPECT_EQ(html.find("src=\"http"), std::string::npos);  // nothing from elsewhere
+  EXPECT_EQ(html.find("href=\"http"), std::string::npos);
+  const std::vector<std::string> sources = image_sources(html);
+  // Per table: measured sphere and slice, and per model sphere, slice and both errors; per CSV
+  // material (no measured pictures): each model's sphere and slice; per material two colour bars.
+  EXPECT_EQ(sources.size(), 2 * (2 + 3 * 4) + 3 * 2 + 3 * 2);
+  for (const std::string& source : sources) {
+    const cv::Mat image = decode_png_data_uri(source);
+    ASSERT_FALSE(image.empty()) << source.substr(0, 80);
+    EXPECT_EQ(image.type(), CV_8UC3);
+  }
+  // The comparison, a section per material, a polar plot per row, the CSV material's note.
+  EXPECT_NE(html.find("<table class=\"summary\">"), std::string::npos);
+  for (const char* material : {"brushed", "plastic", "samples"})
+    EXPECT_NE(html.find(std::string("id=\"m-") + material + "\""), std::string::npos) << material;
+  EXPECT_NE(html.find("No measured pictures:"), std::string::npos);
+  EXPECT_NE(html.find("samples.csv: a CSV of samples is not a table"), std::string::npos);
+  size_t plots = 0;
+  for (size_t at = html.find("<svg"); at != std::string::npos; at = html.find("<svg", at + 1)) ++plots;
+  EXPECT_EQ(plots, 2u * 4 + 3);
+}
+
+// The picture with this alt text in the section of this material.
+cv::Mat picture(const std::string& html, const std::string& material, const std::string& alt) {
+  const size_t section = html.find("id=\"m-" + material + "\"");
+  const std::regex img("<img src=\"([^\"]*)\" alt=\"" + alt + "\"");
+  std::smatch m;
+  if (section == std::string::npos || !std::regex_search(html.begin() + section, html.end(), m, img)) return cv::Mat();
+  return decode_png_data_uri(m[1].str());
+}
+
+TEST_F(Report, TheMeasuredSphereAndTheBestFitLookAlike) {
+  // On the ggx-baked table ggx ranks first, and its pictures match the measured ones.
+  const std::string html = page();
+  const cv::Mat measured = picture(html, "plastic", "measured sphere"), fitted = picture(html, "plastic", "1. ggx sphere");
+  ASSERT_FALSE(measured.empty());
+  ASSERT_FALSE(fitted.empty());
+  EXPECT_LT(cv::norm(measured, fitted, cv::NORM_L1) / cv::norm(measured, cv::NORM_L1), 0.03);
+  const cv::Mat measured_slice = picture(html, "plastic", "measured slice"), fitted_slice = picture(html, "plastic", "1. ggx slice");
+  ASSERT_FALSE(fitted_slice.empty());
+  EXPECT_LT(cv::norm(measured_slice, fitted_slice, cv::NORM_L1) / cv::norm(measured_slice, cv::NORM_L1), 0.03);
+}
+
+std::string find_chromium() {
+  for (const char* name : {"chromium", "chromium-browser"}) {
+    const test::CommandResult r = test::run_command(std::string("command -v ") + name);
+    if (r.exit_code == 0 && !r.output.empty()) return r.output.substr(0, r.output.find('\n'));
+  }
+  return "";
+}
+
+TEST_F(Report, ChromiumLoadsThePageWithEveryImage) {
+  const std::string chromium = find_chromium();
+  if (chromium.empty())
+    GTEST_SKIP() << "chromium is not installed (scripts/install-deps.sh installs it with BRDFFIT_WITH_CHROMIUM=1)";
+  ASSERT_EQ(report_.exit_code, 0) << report_.output;
+  const std::string profile = test::fresh_dir("chromium-profile"), shot = dir_ + "/report.png";
+  const std::string browser = "timeout 180 " + chromium +
+                              " --headless --no-sandbox --disable-gpu --disable-quic --no-first-run"
+                              " --disable-background-networking --disable-component-update --disable-sync"
+                              " --user-data-dir=" + profile + " --window-size=1280,2000 ";
+  const std::string url = "file://" + dir_ + "/report.html";
+
+  const test::CommandResult screenshot = test::run_command(browser + "--screenshot=" + shot + " " + url);
+  ASSERT_TRUE(fs::exists(shot)) << screenshot.output;
+  EXPECT_GT(fs::file_size(shot), 20000u);  // a page with pictures, not a blank one
+  const ImageInfo info = read_image_info(shot);
+  EXPECT_EQ(info.width, 1280);
+  EXPECT_EQ(info.height, 2000);
+
+  // The page's own check, run on load, reports every image decoded.
+  const test::CommandResult dom = test::run_command(browser + "--virtual-time-budget=20000 --dump-dom " + url);
+  const std::smatch check = [&] {
+    std::smatch m;
+    std::regex_search(dom.output, m, std::regex("id=\"image-check\" data-total=\"(\\d+)\" data-broken=\"(\\d+)\""));
+    return m;
+  }();
+  ASSERT_EQ(check.size(), 3u) << dom.output.substr(0, 2000);
+  EXPECT_EQ(std::stoul(check[1].str()), image_sources(page()).size());
+  EXPECT_EQ(check[2].str(), "0");
+}
+
+}  // namespace
+}  // namespace brdffit
