@@ -1,5 +1,5 @@
 // Synthetic photographs of spheres rendered by brdffit with known parameters and lights, for
-// the sphere tests and the sphere bench.
+// the sphere tests and bench/bench_sphere.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -86,6 +86,17 @@ inline SphereScene write_sphere_scene(const std::string& dir, const std::string&
   scene.mask = dir + "/" + prefix + "mask.png";
   write_image(scene.mask, mask);
   return scene;
+}
+
+// A chrome ball (a sharp GGX lobe over a little diffuse, so its silhouette shows) under the lights.
+inline SphereScene write_chrome_scene(const std::string& dir, const std::vector<Vec3>& lights, Encoding encoding) {
+  const Model& ggx = *find_model("ggx");
+  const std::vector<double> chrome = parameter_values(ggx, {"albedo=0.08", "roughness=0.08", "f0=0.95"});
+  SceneOptions options;
+  options.outline = Circle{161.7, 124.2, 88.3};
+  options.encoding = encoding;
+  options.noise = 0.005;
+  return write_sphere_scene(dir, "chrome", ggx, chrome, lights, options);
 }
 
 // Angle between two directions, degrees.

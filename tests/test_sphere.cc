@@ -239,21 +239,11 @@ TEST(SphereLights, FilesAreCheckedLineByLine) {
   expect_error([&] { read_light_directions(dir + "/absent.txt", 1); }, {"absent.txt", "cannot open"});
 }
 
-// A chrome ball (a sharp GGX lobe over a little diffuse, so its silhouette shows) under dome lights.
-test::SphereScene chrome_scene(const std::string& dir, const std::vector<Vec3>& lights, Encoding encoding) {
-  const std::vector<double> chrome = parameter_values(ggx(), {"albedo=0.08", "roughness=0.08", "f0=0.95"});
-  test::SceneOptions options;
-  options.outline = Circle{161.7, 124.2, 88.3};
-  options.encoding = encoding;
-  options.noise = 0.005;
-  return test::write_sphere_scene(dir, "chrome", ggx(), chrome, lights, options);
-}
-
 TEST(SphereLights, ChromeBallGivesTheLightsWithinOneDegree) {
   const std::string dir = temp_dir("chrome");
   const std::vector<Vec3> lights = test::dome_lights(12, 60.0);
   for (Encoding encoding : {Encoding::Linear16, Encoding::Srgb8}) {
-    const test::SphereScene scene = chrome_scene(dir, lights, encoding);
+    const test::SphereScene scene = test::write_chrome_scene(dir, lights, encoding);
     const SphereView ball(circle_from_mask(read_mask(scene.mask), scene.mask), Camera{});
     double worst = 0.0;
     for (size_t i = 0; i < lights.size(); ++i)
@@ -420,7 +410,7 @@ TEST(SphereCli, FitsWritesTheDocumentAndImages) {
 TEST(SphereCli, ChromeBallLightsAndDiligentStyleFolder) {
   const std::string dir = temp_dir("cli-chrome");
   const std::vector<Vec3> lights = test::dome_lights(6, 45.0);
-  const test::SphereScene chrome = chrome_scene(dir, lights, Encoding::Linear16);
+  const test::SphereScene chrome = test::write_chrome_scene(dir, lights, Encoding::Linear16);
   // The object photographs in a DiLiGenT-style folder, without a lights file.
   const std::string folder = dir + "/object";
   const test::SphereScene object = test::write_sphere_scene(folder, "", ggx(), ggx_truth(), lights);
