@@ -319,7 +319,7 @@ class LeastSquares {
     std::vector<double> x;
     ceres::Problem problem;
     build_problem(r, x, problem);
-    estimate_covariance(problem, x, r);
+    estimate_covariance(problem, x, thread_count(options_.threads), r);
   }
 
  private:
@@ -365,10 +365,12 @@ class LeastSquares {
   // null space of the column-scaled JᵀJ, e.g. two parameters that only matter through their
   // ratio) are flagged rather than given a meaningless number; the others get theirs from the
   // pseudo-inverse, which drops that null space.
-  static void estimate_covariance(ceres::Problem& problem, std::vector<double>& x, Refinement& out) {
+  static void estimate_covariance(ceres::Problem& problem, std::vector<double>& x, int threads, Refinement& out) {
     const int n = static_cast<int>(x.size());
     ceres::CRSMatrix crs;
-    problem.Evaluate(ceres::Problem::EvaluateOptions(), nullptr, nullptr, nullptr, &crs);
+    ceres::Problem::EvaluateOptions evaluate;
+    evaluate.num_threads = threads;  // one thread unless asked
+    problem.Evaluate(evaluate, nullptr, nullptr, nullptr, &crs);
     Eigen::MatrixXd jtj = Eigen::MatrixXd::Zero(n, n);
     for (int row = 0; row < crs.num_rows; ++row)
       for (int a = crs.rows[row]; a < crs.rows[row + 1]; ++a)
@@ -490,6 +492,7 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
   }
   // Refine on ever larger subsets (×10 each) before all samples: a large table's cost valley
   // can be long, and walking it on a tenth of the data costs a tenth as much per step.
+  size_t largest_subset = small.size();
   if (!options.single_start)
     for (size_t size = small.size() * 10; size < data.size(); size *= 10) {
       const std::vector<Sample> subset = subsample(data.samples, size, options.seed);
@@ -497,12 +500,18 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
       Refinement r = on_subset.run(best.values, options.max_iterations, 1e-6);
       fit.iterations += r.iterations;
       if (r.usable) best = std::move(r);
+      largest_subset = subset.size();
     }
   const LeastSquares on_all(model, data.samples, options.metric, channels, loss.get(), options);
   if (options.single_start || !small_is_all) {
-    // From the subsets' optimum a few steps suffice; 1e-8 of relative cost change is far
-    // below any metric's reported precision.
-    best = on_all.run(options.single_start ? initial : best.values, options.max_iterations, 1e-6);
+    // From the subsets' optimum: to a relative cost change of 1e-6, far below any metric's
+    // reported precision, or only a few polishing steps after a large subset (FitOptions).
+    const bool polish = !options.single_start && largest_subset >= options.polish_after;
+    best = on_all.run(options.single_start ? initial : best.values,
+                      polish ? std::min(options.polish_iterations, options.max_iterations) : options.max_iterations, 1e-6);
+    if (polish && best.usable && best.iterations >= options.polish_iterations)
+      best.termination = fmt::format("polished: {} steps on all samples after converging on {} of them", best.iterations,
+                                     largest_subset);
     fit.iterations += best.iterations;
   }
   on_all.estimate_covariance(best);
