@@ -1,7 +1,7 @@
 // Fit speed and memory: fits models to a measured table (or to synthetic samples of a model)
 // and prints wall time per model, the error, and the process's peak resident memory.
 //
-//   bench_fit TABLE [--models ggx,...|all] [--threads N] [--converge]
+//   bench_fit TABLE [--models ggx,...|all] [--threads N] [--polish N | --converge]
 //   bench_fit --synthetic N [--models ...]      (N samples of ggx at fixed parameters)
 #include <sys/resource.h>
 
@@ -51,6 +51,8 @@ int main(int argc, char** argv) {
   app.add_option("--models", models, "Comma-separated models or 'all'");
   app.add_option("--threads", threads, "Threads (0: all cores)");
   bool converge = false;
+  int polish = FitOptions{}.polish_iterations;
+  app.add_option("--polish", polish, "Steps on all samples after the largest subset");
   app.add_flag("--converge", converge,
                "Iterate to convergence on all samples instead of polishing after the largest subset (compare the errors)");
   CLI11_PARSE(app, argc, argv);
@@ -74,6 +76,7 @@ int main(int argc, char** argv) {
     double total = 0.0;
     FitOptions options;
     options.threads = threads;
+    options.polish_iterations = polish;
     if (converge) options.polish_after = SIZE_MAX;
     for (const Model* m : list) {
       const auto start = std::chrono::steady_clock::now();

@@ -492,29 +492,38 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
   }
   // Refine on ever larger subsets (×10 each) before all samples: a large table's cost valley
   // can be long, and walking it on a tenth of the data costs a tenth as much per step.
-  size_t largest_subset = small.size();
+  size_t largest_draws = small.size();
+  std::vector<Sample> largest_subset;
   if (!options.single_start)
-    for (size_t size = small.size() * 10; size < data.size(); size *= 10) {
-      const std::vector<Sample> subset = subsample(data.samples, size, options.seed);
+    for (size_t draws = small.size() * 10; draws < data.size(); draws *= 10) {
+      // Heavy samples drawn more than once are kept once, with the weight of all their draws.
+      std::vector<Sample> subset = subsample(data.samples, draws, options.seed);
       const LeastSquares on_subset(model, subset, options.metric, channels, loss.get(), options);
       Refinement r = on_subset.run(best.values, options.max_iterations, 1e-6);
       fit.iterations += r.iterations;
       if (r.usable) best = std::move(r);
-      largest_subset = subset.size();
+      largest_draws = draws;
+      largest_subset = std::move(subset);
     }
+  const bool polish = !options.single_start && largest_draws >= options.polish_after;
   const LeastSquares on_all(model, data.samples, options.metric, channels, loss.get(), options);
   if (options.single_start || !small_is_all) {
     // From the subsets' optimum: to a relative cost change of 1e-6, far below any metric's
     // reported precision, or only a few polishing steps after a large subset (FitOptions).
-    const bool polish = !options.single_start && largest_subset >= options.polish_after;
     best = on_all.run(options.single_start ? initial : best.values,
                       polish ? std::min(options.polish_iterations, options.max_iterations) : options.max_iterations, 1e-6);
     if (polish && best.usable && best.iterations >= options.polish_iterations)
-      best.termination = fmt::format("polished: {} steps on all samples after converging on {} of them", best.iterations,
-                                     largest_subset);
+      best.termination = fmt::format("polished: {} steps on all samples after converging on an importance subset of {} draws",
+                                     best.iterations, largest_draws);
     fit.iterations += best.iterations;
   }
-  on_all.estimate_covariance(best);
+  // JᵀJ at the optimum: over all samples, or estimated from the large importance subset (its
+  // weights make sums over it unbiased estimates of sums over all samples; with 100k draws the
+  // standard deviations come out within about a percent, for a tenth of the time).
+  if (polish)
+    LeastSquares(model, largest_subset, options.metric, channels, loss.get(), options).estimate_covariance(best);
+  else
+    on_all.estimate_covariance(best);
   fit.residuals = data.size() * static_cast<size_t>(std::count(channels.begin(), channels.end(), true));
   fit.final = std::move(best);
   return fit;

@@ -131,10 +131,9 @@ SampleSet MerlTable::samples(const SamplingOptions& options) const {
   set.weighting = "solid-angle";
   set.samples.reserve(bins() - invalid_);
   const HalfDiffGrid g = grid();
-  g.for_each_bin_above_horizon([&](int ih, int id, int ip, const Vec3& l, const Vec3& v) {
+  g.for_each_bin_above_horizon([&](int ih, int id, int ip, const Vec3& l, const Vec3& v, double weight) {
     const size_t bin = bin_index(ih, id, ip);
-    if (valid(bin) && within_angle_limit(options, l, v))
-      set.samples.push_back({l, v, value(bin) * l.z(), g.weight(ih, id, ip)});
+    if (valid(bin) && within_angle_limit(options, l, v)) set.samples.push_back({l, v, value(bin) * l.z(), weight});
   });
   apply_sampling_options(set, options);
   return set;
@@ -159,7 +158,7 @@ void write_merl(const std::string& path, const std::function<Rgb<double>(const V
   const HalfDiffGrid grid{dims[0], dims[1], dims[2], phi_d_period(phi_d_bins)};
   const size_t bins = size_t(dims[0]) * dims[1] * dims[2];
   std::vector<double> raw(3 * bins, -1.0);  // -1: no measurement (below the horizon)
-  grid.for_each_bin_above_horizon([&](int ih, int id, int ip, const Vec3& l, const Vec3& v) {
+  grid.for_each_bin_above_horizon([&](int ih, int id, int ip, const Vec3& l, const Vec3& v, double /*weight*/) {
     const Rgb<double> f = brdf(l, v);
     if (!f.allFinite() || (f.array() < 0.0).any()) {
       const HalfDiff a = grid.centre(ih, id, ip);

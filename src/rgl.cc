@@ -233,14 +233,14 @@ SampleSet RglBrdf::samples(const SamplingOptions& options) const {
   SampleSet set;
   set.source = path_;
   set.weighting = "solid-angle";
-  grid.for_each_bin_above_horizon([&](int ih, int id, int ip, Vec3 l, Vec3 v) {
+  grid.for_each_bin_above_horizon([&](int, int, int, Vec3 l, Vec3 v, double weight) {
     if (!isotropic_) {
       // A Kronecker sequence spreads the bins' half vectors evenly over φh.
       const double phi_h = 2 * kPi * std::fmod(++visited * golden, 1.0);
       l = rotate_z(l, phi_h);
       v = rotate_z(v, phi_h);
     }
-    if (within_angle_limit(options, l, v)) set.samples.push_back({l, v, eval(l, v) * l.z(), grid.weight(ih, id, ip)});
+    if (within_angle_limit(options, l, v)) set.samples.push_back({l, v, eval(l, v) * l.z(), weight});
   });
   apply_sampling_options(set, options);
   return set;

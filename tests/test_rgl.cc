@@ -173,7 +173,7 @@ TEST(Rgl, SamplesLieOnTheDocumentedHalfDifferenceGrid) {
   EXPECT_EQ(set.weighting, "solid-angle");
   const HalfDiffGrid grid{RglBrdf::kSampleGrid[0], RglBrdf::kSampleGrid[1], RglBrdf::kSampleGrid[2], kPi};
   size_t above = 0;
-  grid.for_each_bin_above_horizon([&](int, int, int, const Vec3&, const Vec3&) { ++above; });
+  grid.for_each_bin_above_horizon([&](int, int, int, const Vec3&, const Vec3&, double) { ++above; });
   ASSERT_EQ(set.size(), above);
   double weight_sum = 0.0;
   for (const Sample& s : set.samples) {

@@ -4,8 +4,8 @@
 // with the linear colour parameters solved exactly for every grid point (variable projection);
 // trust-region least squares (Ceres dogleg, automatic derivatives, batched residuals in
 // parallel) from the best starts on the subsample, then on ten-times larger subsets and finally
-// on all samples (a few polishing steps when a large subset came before); integer parameters are searched over their range; standard deviations from
-// Ceres' covariance at the optimum.
+// on all samples (a few polishing steps when a large subset came before); integer parameters
+// are searched over their range; standard deviations from Ceres' covariance at the optimum.
 #pragma once
 
 #include <string>
@@ -33,7 +33,7 @@ struct FitOptions {
   // the importance subset's optimum is within a fraction of a percent of the full one in every
   // metric (bench_fit --converge shows the difference), and each step on a million samples costs ten on the subset.
   size_t polish_after = 100000;
-  int polish_iterations = 5;
+  int polish_iterations = 2;
   uint64_t seed = 1;                // for the subsample
   bool single_start = false;        // one refinement from the initial values on all samples
   std::vector<double> initial_values;  // flattened start; empty: the model's defaults
