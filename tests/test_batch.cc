@@ -139,16 +139,12 @@ TEST(BatchCli, ResumeSkipsMaterialsAlreadyDoneAndRetriesTheOthers) {
 
 TEST(BatchCli, BadOptionsFailBeforeAnyWork) {
   const std::string dir = test::fresh_dir("batch-bad"), in = write_batch_inputs(dir);
-  for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
-           {"batch " + in + " --models nosuch --out " + dir + "/out", "unknown model 'nosuch'"},
-           {"batch " + in + " --metric nosuch --out " + dir + "/out", "unknown metric 'nosuch'"},
-           {"batch " + dir + "/nothing --out " + dir + "/out", "nothing: no such file or folder"}}) {
-    SCOPED_TRACE(args);
-    const auto r = test::run_cli(args);
-    EXPECT_NE(r.exit_code, 0);
-    EXPECT_NE(r.output.find(message), std::string::npos) << r.output;
-    EXPECT_FALSE(fs::exists(dir + "/out"));
-  }
+  test::expect_cli_errors(
+      {
+          {"batch " + in + " --models nosuch --out " + dir + "/out", "unknown model 'nosuch'"},
+          {"batch " + in + " --metric nosuch --out " + dir + "/out", "unknown metric 'nosuch'"},
+          {"batch " + dir + "/nothing --out " + dir + "/out", "nothing: no such file or folder"}},
+      dir + "/out");
 }
 
 }  // namespace

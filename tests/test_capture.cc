@@ -107,16 +107,12 @@ TEST(CaptureCli, WritesTheMergedExrAndTheResponse) {
 TEST(CaptureCli, BadSourcesAreClearErrors) {
   const std::string dir = capture_dir("bad");
   write_exposures(dir, scene_radiance(), {0.5, 5.0});
-  for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
-           {"capture " + dir + "/nothing_%02d.png --out " + dir + "/x.exr", "nothing_%02d.png: cannot open"},
-           {"capture " + dir + "/frame_%02d.png --exposures 0.5,5,50 --out " + dir + "/x.exr", "ran out of frames after 2"},
-           {"capture " + dir + "/frame_%02d.png --exposures 0.5,-5 --out " + dir + "/x.exr", "must be positive"}}) {
-    SCOPED_TRACE(args);
-    const auto r = test::run_cli(args);
-    EXPECT_NE(r.exit_code, 0);
-    EXPECT_NE(r.output.find(message), std::string::npos) << r.output;
-    EXPECT_FALSE(fs::exists(dir + "/x.exr"));
-  }
+  test::expect_cli_errors(
+      {
+          {"capture " + dir + "/nothing_%02d.png --out " + dir + "/x.exr", "nothing_%02d.png: cannot open"},
+          {"capture " + dir + "/frame_%02d.png --exposures 0.5,5,50 --out " + dir + "/x.exr", "ran out of frames after 2"},
+          {"capture " + dir + "/frame_%02d.png --exposures 0.5,-5 --out " + dir + "/x.exr", "must be positive"}},
+      dir + "/x.exr");
 }
 
 }  // namespace

@@ -1,7 +1,10 @@
 // Helpers shared by the tests: random directions and parameters, running the CLI.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <array>
+#include <filesystem>
 #include <cstdio>
 #include <random>
 #include <string>
@@ -57,5 +60,22 @@ inline CommandResult run_command(const std::string& command) {
 }
 
 inline CommandResult run_cli(const std::string& arguments) { return run_command(std::string(BRDFFIT_CLI) + " " + arguments); }
+
+// A command line and a part of the error message it must print.
+struct CliErrorCase {
+  std::string args, message;
+};
+
+// Runs each command line, expecting a non-zero exit, the message in what it printed, and no
+// file at `must_not_exist` (an output that must not be written, even in part).
+inline void expect_cli_errors(const std::vector<CliErrorCase>& cases, const std::string& must_not_exist) {
+  for (const CliErrorCase& c : cases) {
+    SCOPED_TRACE(c.args);
+    const CommandResult r = run_cli(c.args);
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.output.find(c.message), std::string::npos) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(must_not_exist));
+  }
+}
 
 }  // namespace brdffit::test
