@@ -1,7 +1,6 @@
 // export: the metallic-roughness mapping, and the glTF and Mitsuba files.
 #include <gtest/gtest.h>
 
-#include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "batch_test_util.h"
@@ -10,8 +9,6 @@
 
 namespace brdffit {
 namespace {
-
-namespace fs = std::filesystem;
 
 // The albedo and f0 a glTF material has at normal incidence (see material_export.h).
 void gltf_colours(const Rgb<double>& base, double metallic, Rgb<double>& albedo, Rgb<double>& f0) {

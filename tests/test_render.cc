@@ -1,8 +1,6 @@
 // render: sphere pictures of tables and fitted models, slices, curves, tone mapping, the command.
 #include <gtest/gtest.h>
 
-#include <filesystem>
-
 #include <opencv2/core.hpp>
 
 #include "batch_test_util.h"
@@ -12,8 +10,6 @@
 #include "brdffit/render.h"
 
 namespace brdffit {
-
-namespace fs = std::filesystem;
 namespace {
 
 FitResult lambert_fit(double r, double g, double b) {
