@@ -8,4 +8,5 @@ cmake -S . -B build -DCMAKE_BUILD_TYPE=Release > build/configure.log 2>&1 || { c
 cmake --build build -j "$(nproc)" --target brdffit_cli
 ./build/apps/brdffit info data/cc_ibiza_sunset_rgb.bsdf
 ./build/apps/brdffit fit data/cc_ibiza_sunset_rgb.bsdf --models all --out build/cc_ibiza_sunset.fit.json
-echo "result document: build/cc_ibiza_sunset.fit.json"
+./build/apps/brdffit report build/cc_ibiza_sunset.fit.json --out build/cc_ibiza_sunset.report.html
+echo "result document: build/cc_ibiza_sunset.fit.json; pictures of every fit: build/cc_ibiza_sunset.report.html"
