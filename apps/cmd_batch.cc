@@ -151,6 +151,7 @@ struct BatchArgs {
   std::string metric = "cosine";
   std::string loss = "none";
   bool per_channel = false;
+  ConvergeArg converge;
   SamplingArgs sampling;
   std::string out = "brdffit-batch";
   int jobs = 1;
@@ -164,6 +165,7 @@ void run_batch_command(const BatchArgs& args) {
   options.fit.metric = metric_from(args.metric);
   options.fit.loss = loss_from(args.loss);
   options.fit.per_channel = args.per_channel;
+  args.converge.apply(options.fit);
   options.fit.seed = args.sampling.seed;
   options.fit.threads = args.threads;
   options.sampling = args.sampling.options();
@@ -384,6 +386,7 @@ void add_batch_commands(CLI::App& app) {
   batch_cmd->add_option("--metric", batch->metric, "What to minimise: cosine, log, relative, l2")->capture_default_str();
   batch_cmd->add_option("--loss", batch->loss, "Robust loss per sample: none, huber, cauchy")->capture_default_str();
   batch_cmd->add_flag("--per-channel", batch->per_channel, "Fit shape parameters per colour channel");
+  batch->converge.add_to(batch_cmd);
   batch_cmd->add_option("--out", batch->out, "Folder for the result documents and summary.{json,csv}")->capture_default_str();
   batch_cmd->add_option("--jobs", batch->jobs, "Materials fitted at once")->capture_default_str()->check(CLI::PositiveNumber);
   batch_cmd->add_option("--threads", batch->threads, "Threads per material (0: the cores shared among the jobs)");

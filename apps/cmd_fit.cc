@@ -80,6 +80,7 @@ struct FitArgs {
   SamplingArgs sampling;
   int threads = 0;
   bool per_channel = false;
+  ConvergeArg converge;
   std::string out, csv;
 };
 
@@ -88,6 +89,7 @@ void run_fit(const FitArgs& args) {
   options.metric = metric_from(args.metric);
   options.loss = loss_from(args.loss);
   options.per_channel = args.per_channel;
+  args.converge.apply(options);
   options.threads = args.threads;
   options.seed = args.sampling.seed;
   const std::vector<const Model*> models = parse_model_list(args.models);
@@ -139,6 +141,7 @@ void add_fit_commands(CLI::App& app) {
   fit_cmd->add_option("--metric", fit->metric, "What to minimise: cosine, log, relative, l2 (all are reported)");
   fit_cmd->add_option("--loss", fit->loss, "Robust loss per sample: none, huber, cauchy");
   fit_cmd->add_flag("--per-channel", fit->per_channel, "Fit shape parameters per colour channel");
+  fit->converge.add_to(fit_cmd);
   fit_cmd->add_option("--threads", fit->threads, "Threads (0: every core)");
   fit_cmd->add_option("--out", fit->out, "Write the result document (JSON)");
   fit_cmd->add_option("--csv", fit->csv, "Write one row per model (CSV)");

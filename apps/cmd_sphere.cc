@@ -44,6 +44,7 @@ struct SphereArgs {
   uint64_t seed = 1;
   int threads = 0;
   PixelRules rules;
+  ConvergeArg converge;
   std::string out, images_out, images_format = "png";
 };
 
@@ -135,6 +136,7 @@ void run_sphere(const SphereArgs& args) {
   options.loss = args.loss;
   options.threads = args.threads;
   options.seed = args.seed;
+  args.converge.apply(options);
   if (args.images_format != "png" && args.images_format != "exr") fail("--images-format: png or exr, not '{}'", args.images_format);
   const std::vector<const Model*> models = parse_model_list(args.models);
   const SphereInput input = sphere_input(args);
@@ -209,6 +211,7 @@ void add_sphere_commands(CLI::App& app) {
   sphere->add_option("--max-samples", args->max_samples, "Fit a deterministic random subset of this many pixels (0: all)")->capture_default_str();
   sphere->add_option("--seed", args->seed, "Seed of the subset");
   sphere->add_option("--threads", args->threads, "Threads (0: every core)");
+  args->converge.add_to(sphere);
   sphere->add_option("--max-angle", args->rules.max_angle_deg, "Leave out pixels with θi or θo above this (degrees)")
       ->capture_default_str()
       ->check(CLI::Range(1.0, 90.0));

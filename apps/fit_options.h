@@ -2,6 +2,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -24,6 +25,21 @@ struct SamplingArgs {
     command->add_option("--seed", seed, "Seed of the subset");
   }
   SamplingOptions options() const { return {max_angle, max_samples, seed}; }
+};
+
+// --converge: on a large table the stage on all samples walks to convergence instead of
+// polishing after the importance subsets (FitOptions::polish_after): slower, and a few percent
+// better for models with long, flat cost valleys (Cook-Torrance, Ashikhmin-Shirley).
+struct ConvergeArg {
+  bool converge = false;
+
+  void add_to(CLI::App* command) {
+    command->add_flag("--converge", converge,
+                      "Large tables: iterate to convergence on all samples, not a few polishing steps (slower)");
+  }
+  void apply(FitOptions& options) const {
+    if (converge) options.polish_after = SIZE_MAX;
+  }
 };
 
 inline Metric metric_from(const std::string& name) {

@@ -1,6 +1,8 @@
 // The fitter: parameter recovery for every model, multi-start, metrics on a tiny table, failures.
 #include <gtest/gtest.h>
 
+#include <cstdint>
+
 #include "brdffit/error.h"
 #include "brdffit/fit.h"
 #include "brdffit/fit_residual.h"
@@ -102,6 +104,32 @@ TEST(Fit, MultiStartFindsTheGlobalMinimumWhereASingleStartDoesNot) {
   EXPECT_NEAR(multi.metrics.cosine, global, 1e-6 * global);
   EXPECT_GT(from_default.metrics.cosine, 3 * global) << "the default start must be caught in a local minimum";
   EXPECT_LT(multi.values[ggx.offset_of("roughness")], 0.1);
+}
+
+TEST(Fit, LargeSetsPolishOnAllSamplesOrConvergeWhenAsked) {
+  // 150,000 samples: a 12,000 subsample, a 120,000-draw subset, then all samples.
+  const Model& ward = *find_model("ward");
+  const std::vector<double> truth = parameter_values(ward, {"albedo=0.3,0.2,0.1", "specular=0.1", "alpha=0.15"});
+  const SampleSet data = synthetic(ward, truth, 150000, 0.01, 11);
+  const FitResult polished = fit_model(ward, data, FitOptions{});
+  FitOptions converge;
+  converge.polish_after = SIZE_MAX;
+  const FitResult converged = fit_model(ward, data, converge);
+  ASSERT_TRUE(polished.ok && converged.ok) << polished.error << converged.error;
+  // Polishing stops after polish_iterations steps (or earlier, converged); converging does not stop there.
+  EXPECT_TRUE(polished.termination.rfind("polished: 2 steps", 0) == 0 ||
+              polished.termination.rfind("CONVERGENCE", 0) == 0)
+      << polished.termination;
+  EXPECT_EQ(converged.termination.find("polished"), std::string::npos) << converged.termination;
+  EXPECT_LE(converged.metrics.cosine, polished.metrics.cosine * (1.0 + 1e-9));
+  EXPECT_NEAR(polished.metrics.cosine, converged.metrics.cosine, 1e-3 * converged.metrics.cosine);
+  for (const FitResult* fit : {&polished, &converged})
+    for (size_t i = 0; i < truth.size(); ++i) EXPECT_NEAR(fit->values[i], truth[i], 0.01 * truth[i]) << i;
+  // Standard deviations from the subset's JᵀJ (polished) and from all samples' (converged) agree.
+  const ParameterEstimate& a = polished.parameters[2];
+  const ParameterEstimate& b = converged.parameters[2];
+  ASSERT_EQ(a.name, "alpha");
+  EXPECT_NEAR(a.stddev[0], b.stddev[0], 0.05 * b.stddev[0]);
 }
 
 TEST(Metrics, MatchHandComputedValuesOnATinyTable) {
