@@ -144,6 +144,7 @@ h1 { margin-bottom: 0.2em; } h2 { margin-top: 2em; border-bottom: 1px solid #ccc
 table { border-collapse: collapse; margin: 0.8em 0; }
 th, td { padding: 3px 8px; border-bottom: 1px solid #eee; vertical-align: middle; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; }
+.scroll { overflow-x: auto; }
 .matrix td.best { background: #d9f0d3; font-weight: bold; }
 .matrix td.failed, .failed { color: #999; font-style: italic; }
 .pictures td { padding: 2px; }
@@ -182,7 +183,8 @@ std::string comparison_html(const Comparison& c) {
         "<tr><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td>"
         "<td class=\"num\">{:.2f}</td><td class=\"num\">{}</td></tr>",
         html(m.model), m.materials - m.failed, m.failed, number(m.mean_error), number(m.median_error), m.mean_rank, m.wins);
-  out += "</table><h3>Error per material (rank)</h3><table class=\"matrix\"><tr><th>material</th>";
+  // Wide with many models: the matrix scrolls sideways inside its own box, the page does not.
+  out += "</table><h3>Error per material (rank)</h3><div class=\"scroll\"><table class=\"matrix\"><tr><th>material</th>";
   for (const ModelSummary& m : c.models) out += "<th>" + html(m.model) + "</th>";
   out += "</tr>";
   for (const MaterialRanking& material : c.materials) {
@@ -198,7 +200,7 @@ std::string comparison_html(const Comparison& c) {
     }
     out += "</tr>";
   }
-  return out + "</table></section>\n";
+  return out + "</table></div></section>\n";
 }
 
 std::string material_html(const FitDocument& document, const MaterialRanking& ranking, const ReportOptions& options,
