@@ -1,5 +1,6 @@
 #include "brdffit/result_json.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "brdffit/error.h"
@@ -116,6 +117,16 @@ FitDocument read_fit_document(const std::string& path) {
         e.identifiable = p.value("identifiable", true);
         e.at_bound = p.value("at_bound", false);
         r.parameters.push_back(e);
+      }
+      // JSON objects come back sorted by name; a known model's own order reads better.
+      if (const Model* model = find_model(r.model)) {
+        const std::vector<ParamSpec> specs = model->parameters();
+        auto position = [&](const ParameterEstimate& e) {
+          return std::find_if(specs.begin(), specs.end(), [&](const ParamSpec& p) { return p.name == e.name; }) -
+                 specs.begin();
+        };
+        std::stable_sort(r.parameters.begin(), r.parameters.end(),
+                         [&](const ParameterEstimate& a, const ParameterEstimate& b) { return position(a) < position(b); });
       }
       const auto& metrics = m.at("metrics");
       auto metric = [&](const char* key) { return metrics.at(key).is_number() ? metrics.at(key).get<double>() : NAN; };

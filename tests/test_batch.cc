@@ -81,6 +81,11 @@ TEST(BatchCli, FitsEveryMaterialRecordsTheFailureAndSummarises) {
   ASSERT_EQ(red["models"].size(), 2u);
   EXPECT_EQ(red["models"][0]["model"], "ward");
   EXPECT_NEAR(red["models"][0]["parameters"]["alpha"]["value"].get<double>(), 0.2, 1e-5);
+  // Read back, parameters come in the model's order (JSON keeps them sorted by name).
+  const FitDocument red_document = read_fit_document(out + "/red.json");
+  std::vector<std::string> names;
+  for (const ParameterEstimate& p : red_document.results[0].parameters) names.push_back(p.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"albedo", "specular", "alpha"}));
   EXPECT_TRUE(fs::exists(out + "/blue.json"));
   EXPECT_FALSE(fs::exists(out + "/broken.json"));
 
