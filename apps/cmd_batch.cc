@@ -292,12 +292,6 @@ struct RenderArgs {
   double reference = 0.0;
 };
 
-bool is_linear_image(const std::string& path) {
-  std::string extension = fs::path(path).extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return extension == ".exr" || extension == ".hdr";
-}
-
 void run_render(const RenderArgs& args) {
   const SphereLighting lighting = args.lighting.lighting();
   cv::Mat sphere;
@@ -320,7 +314,7 @@ void run_render(const RenderArgs& args) {
     sphere = render_measured_sphere(*open_measured(args.input), lighting, args.size);
     what = args.input;
   }
-  if (is_linear_image(args.out)) {
+  if (stores_linear_values(args.out)) {
     write_image(args.out, sphere, Encoding::Float);
     fmt::print("wrote {} ({}, {}x{} linear f·cosθi)\n", args.out, what, args.size, args.size);
     return;

@@ -7,20 +7,19 @@
 #include "brdffit/measured.h"
 #include "brdffit/merl.h"
 #include "brdffit/model.h"
+#include "brdffit/result_json.h"
 #include "commands.h"
 
 namespace brdffit::cli {
 
 namespace {
 
-nlohmann::json rgb_json(const Rgb<double>& c) { return {c[0], c[1], c[2]}; }
-
 void run_info(const std::string& path, bool json) {
   const TableInfo info = describe_measured(path);
   if (json) {
     nlohmann::json out = {{"format", info.format}, {"resolution", info.resolution}, {"valid", info.valid},
-                          {"invalid", info.invalid}, {"min", rgb_json(info.min)},     {"max", rgb_json(info.max)},
-                          {"albedo", info.albedo.allFinite() ? rgb_json(info.albedo) : nlohmann::json(nullptr)}};
+                          {"invalid", info.invalid}, {"min", json_array(info.min)},     {"max", json_array(info.max)},
+                          {"albedo", info.albedo.allFinite() ? json_array(info.albedo) : nlohmann::json(nullptr)}};
     fmt::print("{}\n", out.dump());
     return;
   }
@@ -52,7 +51,7 @@ void run_lookup(const LookupArgs& args) {
     f = table->eval(l, v);
   }
   if (args.json)
-    fmt::print("{}\n", nlohmann::json({{"brdf", rgb_json(f)}}).dump());
+    fmt::print("{}\n", nlohmann::json({{"brdf", json_array(f)}}).dump());
   else
     fmt::print("brdf {:.9g} {:.9g} {:.9g}\n", f[0], f[1], f[2]);
 }

@@ -104,12 +104,16 @@ cv::Mat read_image(const std::string& path, const Decoding& decoding) {
   return out;
 }
 
+bool stores_linear_values(const std::string& path) {
+  std::string extension = fs::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension == ".exr" || extension == ".hdr";
+}
+
 void write_image(const std::string& path, const cv::Mat& rgb, Encoding encoding) {
   if (rgb.type() != CV_32FC3) fail("{}: internal: images to write are CV_32FC3", path);
   const fs::path target(path);
-  std::string extension = target.extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (encoding == Encoding::Auto) encoding = extension == ".exr" || extension == ".hdr" ? Encoding::Float : Encoding::Srgb8;
+  if (encoding == Encoding::Auto) encoding = stores_linear_values(path) ? Encoding::Float : Encoding::Srgb8;
 
   cv::Mat pixels = rgb.clone();
   if (encoding != Encoding::Float) pixels = cv::min(cv::max(pixels, 0.0), 1.0);

@@ -47,8 +47,6 @@ const FitResult& ggx_result(const FitDocument& document) {
   fail("{}: has no ggx fit; export maps the ggx model (fit with --models including ggx)", document.path);
 }
 
-nlohmann::json rgb_json(const Rgb<double>& c) { return {c[0], c[1], c[2]}; }
-
 // Text that can stand inside an XML comment or attribute: escaped, and no "--" (which ends a comment).
 std::string xml_text(const std::string& text) {
   std::string out;
@@ -113,8 +111,8 @@ std::string gltf_material(const FitDocument& document) {
          {{"result", document.path},
           {"input", document.input_path},
           {"model", "ggx"},
-          {"fitted", {{"albedo", rgb_json(fitted("albedo"))}, {"f0", rgb_json(fitted("f0"))}, {"roughness", mr.roughness}}},
-          {"implied_at_normal_incidence", {{"albedo", rgb_json(mr.albedo)}, {"f0", rgb_json(mr.f0)}}},
+          {"fitted", {{"albedo", json_array(fitted("albedo"))}, {"f0", json_array(fitted("f0"))}, {"roughness", mr.roughness}}},
+          {"implied_at_normal_incidence", {{"albedo", json_array(mr.albedo)}, {"f0", json_array(mr.f0)}}},
           {"metrics", fit_result_json(fit)["metrics"]}}}}}};
   const nlohmann::json gltf = {{"asset", {{"version", "2.0"}, {"generator", "brdffit " BRDFFIT_VERSION}}},
                                {"materials", {material}}};

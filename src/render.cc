@@ -52,21 +52,11 @@ Vec3 light_in_camera_frame(const SphereLighting& lighting) {
 }
 
 cv::Mat render_measured_sphere(const MeasuredBrdf& table, const SphereLighting& lighting, int size) {
-  const Vec3 light = light_in_camera_frame(lighting);
-  const SphereView sphere = SphereView::centred(size);
-  cv::Mat image(size, size, CV_32FC3, cv::Scalar::all(0.0));
-  // The same pixels, normals and shading frames as render_sphere, with the table's f·cosθi.
-  parallel_for(static_cast<size_t>(size), thread_count(0), [&](size_t row) {
-    const int y = static_cast<int>(row);
-    for (int x = 0; x < size; ++x) {
-      Vec3 normal, view;
-      if (!sphere.surface_at(x, y, normal, view)) continue;
-      const LocalFrame frame(normal);
-      const Vec3 l = frame.to_local(light);
-      if (l.z() > 0.0) image.at<cv::Vec3f>(y, x) = to_pixel(table.eval(l, frame.to_local(view)) * l.z());
-    }
-  });
-  return image;
+  // The same pixels, normals and shading frames as a fitted model's sphere, with the table's f·cosθi.
+  const ShadeFunction shade = [&table](const Vec3& l, const Vec3& v) -> Rgb<double> {
+    return l.z() > 0.0 ? Rgb<double>(table.eval(l, v) * l.z()) : Rgb<double>::Zero();
+  };
+  return render_sphere(shade, SphereView::centred(size), light_in_camera_frame(lighting), cv::Size(size, size));
 }
 
 cv::Mat render_fitted_sphere(const Model& model, const FitResult& fit, const SphereLighting& lighting, int size) {
@@ -75,16 +65,7 @@ cv::Mat render_fitted_sphere(const Model& model, const FitResult& fit, const Sph
                        fit.channel_values);
 }
 
-cv::Mat sphere_mask(int size) {
-  const SphereView sphere = SphereView::centred(size);
-  cv::Mat mask(size, size, CV_8U, cv::Scalar(0));
-  for (int y = 0; y < size; ++y)
-    for (int x = 0; x < size; ++x) {
-      Vec3 normal, view;
-      if (sphere.surface_at(x, y, normal, view)) mask.at<uint8_t>(y, x) = 255;
-    }
-  return mask;
-}
+cv::Mat sphere_mask(int size) { return sphere_pixels(SphereView::centred(size), cv::Size(size, size)); }
 
 cv::Mat half_diff_slice(const BrdfFunction& brdf, int size) {
   cv::Mat image(size, size, CV_32FC3);

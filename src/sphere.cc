@@ -105,8 +105,7 @@ Rgb<double> shade_fitted(const Model& model, const std::vector<double>& values,
   return shade;
 }
 
-cv::Mat render_sphere(const Model& model, const std::vector<double>& values, const SphereView& sphere, const Vec3& light,
-                      cv::Size size, const std::vector<std::vector<double>>& per_channel_values) {
+cv::Mat render_sphere(const ShadeFunction& shade, const SphereView& sphere, const Vec3& light, cv::Size size) {
   cv::Mat image(size, CV_32FC3, cv::Scalar::all(0.0));
   const Vec3 l = light.normalized();
   const cv::Rect box = sphere.bounds(size);
@@ -116,11 +115,24 @@ cv::Mat render_sphere(const Model& model, const std::vector<double>& values, con
       Vec3 normal, view;
       if (!sphere.surface_at(x, y, normal, view)) continue;
       const LocalFrame frame(normal);
-      const Rgb<double> shade = shade_fitted(model, values, per_channel_values, frame.to_local(l), frame.to_local(view));
-      image.at<cv::Vec3f>(y, x) = cv::Vec3f(static_cast<float>(shade[0]), static_cast<float>(shade[1]), static_cast<float>(shade[2]));
+      const Rgb<double> value = shade(frame.to_local(l), frame.to_local(view));
+      image.at<cv::Vec3f>(y, x) = cv::Vec3f(static_cast<float>(value[0]), static_cast<float>(value[1]), static_cast<float>(value[2]));
     }
   });
   return image;
+}
+
+cv::Mat render_sphere(const Model& model, const std::vector<double>& values, const SphereView& sphere, const Vec3& light,
+                      cv::Size size, const std::vector<std::vector<double>>& per_channel_values) {
+  return render_sphere(
+      [&](const Vec3& l, const Vec3& v) { return shade_fitted(model, values, per_channel_values, l, v); }, sphere, light,
+      size);
+}
+
+cv::Mat sphere_pixels(const SphereView& sphere, cv::Size size) {
+  cv::Mat pixels(size, CV_8U, cv::Scalar(0));
+  for_each_sphere_pixel(sphere, size, cv::Mat(), [&](int x, int y, const Vec3&, const Vec3&) { pixels.at<uint8_t>(y, x) = 255; });
+  return pixels;
 }
 
 NormalCheck check_normals(const SphereView& sphere, const std::string& normal_map, cv::Size size, const cv::Mat& mask) {
@@ -128,16 +140,12 @@ NormalCheck check_normals(const SphereView& sphere, const std::string& normal_ma
   if (encoded.size() != size)
     fail("{}: {}x{} pixels, the photographs {}x{}", normal_map, encoded.cols, encoded.rows, size.width, size.height);
   std::vector<double> errors;
-  const cv::Rect bounds = sphere.bounds(size);
-  for (int y = bounds.y; y < bounds.y + bounds.height; ++y)
-    for (int x = bounds.x; x < bounds.x + bounds.width; ++x) {
-      Vec3 normal, view;
-      if ((!mask.empty() && !mask.at<uint8_t>(y, x)) || !sphere.surface_at(x, y, normal, view)) continue;
-      const cv::Vec3f e = encoded.at<cv::Vec3f>(y, x);
-      const Vec3 truth(2.0 * e[0] - 1.0, 2.0 * e[1] - 1.0, 2.0 * e[2] - 1.0);
-      if (std::abs(truth.norm() - 1.0) > 0.1) continue;
-      errors.push_back(std::acos(std::clamp(normal.dot(truth.normalized()), -1.0, 1.0)) * 180.0 / kPi);
-    }
+  for_each_sphere_pixel(sphere, size, mask, [&](int x, int y, const Vec3& normal, const Vec3&) {
+    const cv::Vec3f e = encoded.at<cv::Vec3f>(y, x);
+    const Vec3 truth(2.0 * e[0] - 1.0, 2.0 * e[1] - 1.0, 2.0 * e[2] - 1.0);
+    if (std::abs(truth.norm() - 1.0) > 0.1) return;
+    errors.push_back(std::acos(std::clamp(normal.dot(truth.normalized()), -1.0, 1.0)) * 180.0 / kPi);
+  });
   if (errors.empty()) fail("{}: holds no normal on the located sphere", normal_map);
   NormalCheck check{normal_map, errors.size()};
   auto at_fraction = [&](double q) {

@@ -113,13 +113,7 @@ void locate_sphere(const SphereInput& input, SphereObservation& observation) {
 // Calls visit(x, y, normal, view) for every pixel that shows the sphere and lies in the mask.
 template <class Visit>
 void for_each_sphere_pixel(const SphereObservation& observation, Visit&& visit) {
-  const cv::Rect box = observation.sphere.bounds(observation.image_size);
-  for (int y = box.y; y < box.y + box.height; ++y)
-    for (int x = box.x; x < box.x + box.width; ++x) {
-      if (!observation.mask.empty() && !observation.mask.at<uint8_t>(y, x)) continue;
-      Vec3 normal, view;
-      if (observation.sphere.surface_at(x, y, normal, view)) visit(x, y, normal, view);
-    }
+  brdffit::for_each_sphere_pixel(observation.sphere, observation.image_size, observation.mask, visit);
 }
 
 // Where a float image has no clipping level, its brightest sphere pixel sets the scale "dark" is measured on.
@@ -341,7 +335,6 @@ std::vector<PhotoError> compare_with_photographs(const SphereObservation& observ
 namespace {
 
 nlohmann::json number_or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
-nlohmann::json json_of(const Vec3& d) { return {d[0], d[1], d[2]}; }  // also RGB (the same type)
 
 nlohmann::json json_of(const PixelCounts& p) {
   return {{"used", p.used}, {"shadow", p.shadow}, {"grazing", p.grazing}, {"saturated", p.saturated}, {"dark", p.dark}};
@@ -391,12 +384,12 @@ nlohmann::json sphere_document_json(const std::string& input_path, const SphereI
   nlohmann::json lights = nlohmann::json::array(), images = nlohmann::json::array();
   for (size_t i = 0; i < observation.images.size(); ++i) {
     const SphereImage& image = observation.images[i];
-    lights.push_back(json_of(image.light));
+    lights.push_back(json_array(image.light));
     nlohmann::json relative_rms = nlohmann::json::object();
     for (const PhotoError& e : errors) relative_rms[e.model] = number_or_null(e.per_image[i]);
     images.push_back({{"path", image.path},
-                      {"light", json_of(image.light)},
-                      {"intensity", observation.intensities_known ? json_of(image.intensity) : nlohmann::json(nullptr)},
+                      {"light", json_array(image.light)},
+                      {"intensity", observation.intensities_known ? json_array(image.intensity) : nlohmann::json(nullptr)},
                       {"exposure", image.exposure},
                       {"pixels", json_of(image.pixels)},
                       {"relative_rms", relative_rms}});

@@ -81,12 +81,7 @@ Vec3 light_from_chrome(const cv::Mat& rgb, const SphereView& ball, const std::st
   const cv::Rect box = ball.bounds(rgb.size());
   cv::Mat luminance;
   cv::cvtColor(rgb(box), luminance, cv::COLOR_RGB2GRAY);
-  cv::Mat on_ball(box.size(), CV_8U, cv::Scalar(0));
-  for (int y = 0; y < box.height; ++y)
-    for (int x = 0; x < box.width; ++x) {
-      Vec3 normal, view;
-      if (ball.surface_at(box.x + x, box.y + y, normal, view)) on_ball.at<uint8_t>(y, x) = 255;
-    }
+  const cv::Mat on_ball = sphere_pixels(ball, rgb.size())(box);
   double peak = 0.0;
   cv::minMaxLoc(luminance, nullptr, &peak, nullptr, nullptr, on_ball);
   if (!(peak > 0.0)) fail("{}: no highlight on the chrome ball: it is black", what);

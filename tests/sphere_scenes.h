@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <filesystem>
 #include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 #include <string>
 #include <vector>
 
@@ -77,12 +78,9 @@ inline SphereScene write_sphere_scene(const std::string& dir, const std::string&
   write_file_atomic(scene.lights, light_lines);
   write_file_atomic(scene.intensities, intensity_lines);
 
-  cv::Mat mask(options.size, CV_32FC3, cv::Scalar::all(0.0));
-  for (int y = 0; y < mask.rows; ++y)
-    for (int x = 0; x < mask.cols; ++x) {
-      Vec3 normal, view;
-      if (sphere.surface_at(x, y, normal, view)) mask.at<cv::Vec3f>(y, x) = cv::Vec3f(1, 1, 1);
-    }
+  cv::Mat mask;
+  cv::cvtColor(sphere_pixels(sphere, options.size), mask, cv::COLOR_GRAY2RGB);
+  mask.convertTo(mask, CV_32FC3, 1.0 / 255.0);
   scene.mask = dir + "/" + prefix + "mask.png";
   write_image(scene.mask, mask);
   return scene;

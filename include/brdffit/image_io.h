@@ -50,6 +50,10 @@ enum class Encoding {
   Float,     // linear 32-bit float (EXR, TIFF)
 };
 
+// Whether a file name's extension is that of a format write_image stores linear float values in
+// (.exr, .hdr, any case); the others get 8-bit sRGB by default.
+bool stores_linear_values(const std::string& path);
+
 // Writes an RGB image (CV_32FC3, linear) whole or not at all: to a temporary file beside `path`,
 // renamed over it once complete. The format follows the extension. Throws Error naming the file.
 void write_image(const std::string& path, const cv::Mat& rgb, Encoding encoding = Encoding::Auto);

@@ -14,6 +14,9 @@
 
 namespace brdffit {
 
+// A 3-vector, a direction or an RGB colour (the same type), as a JSON array [x, y, z].
+inline nlohmann::json json_array(const Vec3& v) { return {v[0], v[1], v[2]}; }
+
 nlohmann::json fit_result_json(const FitResult& result);
 
 // The whole document for one input; callers may add keys (e.g. the sphere pipeline's).

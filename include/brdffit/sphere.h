@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cmath>
+#include <functional>
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
@@ -59,6 +60,22 @@ class SphereView {
   Camera camera_;
   Vec3 centre_ = Vec3::Zero();  // perspective: the sphere's centre in camera space, for a sphere of radius 1
 };
+
+// Calls visit(x, y, normal, view) for every pixel of an image of this size whose ray meets the
+// sphere and that lies in `mask` (CV_8U, nonzero inside; every such pixel when it is empty).
+template <class Visit>
+void for_each_sphere_pixel(const SphereView& sphere, cv::Size size, const cv::Mat& mask, Visit&& visit) {
+  const cv::Rect box = sphere.bounds(size);
+  for (int y = box.y; y < box.y + box.height; ++y)
+    for (int x = box.x; x < box.x + box.width; ++x) {
+      if (!mask.empty() && !mask.at<uint8_t>(y, x)) continue;
+      Vec3 normal, view;
+      if (sphere.surface_at(x, y, normal, view)) visit(x, y, normal, view);
+    }
+}
+
+// The pixels of an image of this size that show the sphere: CV_8U, 255 there, 0 elsewhere.
+cv::Mat sphere_pixels(const SphereView& sphere, cv::Size size);
 
 // The sphere's outline from a mask that covers its silhouette (nonzero pixels): the centroid of
 // the mask and the radius of a disc of the same area (cv::moments), unbiased for a rasterised
@@ -141,8 +158,14 @@ PixelFate classify_pixel(const Vec3& normal, const Vec3& view, const Vec3& light
 Rgb<double> shade_fitted(const Model& model, const std::vector<double>& values,
                          const std::vector<std::vector<double>>& per_channel_values, const Vec3& l, const Vec3& v);
 
-// The model's shaded value f·max(n·l, 0) for a directional light of unit irradiance at every
-// pixel of an image of this size that shows the sphere (0 elsewhere): linear RGB, CV_32FC3.
+// A shaded value f·max(n·l, 0) (1/sr) as a function of the light and view directions in the
+// local frame, normal +z.
+using ShadeFunction = std::function<Rgb<double>(const Vec3& l, const Vec3& v)>;
+
+// The shaded value for a directional light of unit irradiance at every pixel of an image of this
+// size that shows the sphere (0 elsewhere), each pixel in its own shading frame: linear RGB, CV_32FC3.
+cv::Mat render_sphere(const ShadeFunction& shade, const SphereView& sphere, const Vec3& light, cv::Size size);
+// The same for a model's values (shade_fitted).
 cv::Mat render_sphere(const Model& model, const std::vector<double>& values, const SphereView& sphere, const Vec3& light,
                       cv::Size size, const std::vector<std::vector<double>>& per_channel_values = {});
 
