@@ -17,13 +17,6 @@ namespace brdffit::cli {
 
 namespace {
 
-std::string format_values(const std::vector<double>& xs, const char* format) {
-  if (xs.size() == 1) return fmt::format(fmt::runtime(format), xs[0]);
-  std::string out = "[";
-  for (size_t i = 0; i < xs.size(); ++i) out += (i ? "," : "") + fmt::format(fmt::runtime(format), xs[i]);
-  return out + "]";
-}
-
 std::string format_parameter(const ParameterEstimate& p) {
   std::string text = p.name + "=" + format_values(p.value, "{:.4g}");
   if (!p.identifiable)

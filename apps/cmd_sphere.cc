@@ -39,7 +39,7 @@ struct SphereArgs {
   bool linear = false;
   std::string models = default_models();
   std::string metric = "cosine";
-  LossKind loss = LossKind::Huber;
+  std::string loss = "huber";
   size_t max_samples = 200000;
   uint64_t seed = 1;
   int threads = 0;
@@ -105,11 +105,6 @@ void print_observation(const SphereObservation& o) {
              o.sphere_pixels, o.images.size(), p.total(), p.used, p.shadow, p.grazing, p.saturated, p.dark);
 }
 
-std::string format_values(const std::vector<double>& xs) {
-  if (xs.size() == 1) return fmt::format("{:.4g}", xs[0]);
-  return fmt::format("[{:.4g},{:.4g},{:.4g}]", xs[0], xs[1], xs[2]);
-}
-
 // Models ranked by how well they reproduce the photographs.
 void print_results(const std::vector<FitResult>& fits, const std::vector<PhotoError>& errors, Metric metric) {
   std::map<std::string, double> image_error;
@@ -125,7 +120,7 @@ void print_results(const std::vector<FitResult>& fits, const std::vector<PhotoEr
       continue;
     }
     std::string parameters;
-    for (const ParameterEstimate& p : f->parameters) parameters += " " + p.name + "=" + format_values(p.value);
+    for (const ParameterEstimate& p : f->parameters) parameters += " " + p.name + "=" + format_values(p.value, "{:.4g}");
     fmt::print("{:<16} {:>14.4f} {:>10.4g} {:>8.1f} {}\n", f->model, error_of(f), f->metrics.get(metric), f->seconds, parameters);
   }
 }
@@ -133,7 +128,7 @@ void print_results(const std::vector<FitResult>& fits, const std::vector<PhotoEr
 void run_sphere(const SphereArgs& args) {
   FitOptions options;
   options.metric = metric_from(args.metric);
-  options.loss = args.loss;
+  options.loss = loss_from(args.loss);
   options.threads = args.threads;
   options.seed = args.seed;
   args.converge.apply(options);
@@ -146,7 +141,7 @@ void run_sphere(const SphereArgs& args) {
   SampleSet fitted = observation.samples;
   apply_sampling_options(fitted, SamplingOptions{90.0, args.max_samples, args.seed});
   fmt::print("fitting {} of {} samples ({} loss)\n", fitted.size(), observation.samples.size(),
-             args.loss == LossKind::Huber ? "huber" : args.loss == LossKind::Cauchy ? "cauchy" : "no robust");
+             args.loss == "none" ? "no robust" : args.loss);
 
   const std::vector<FitResult> fits = fit_models(models, fitted, options);
   const std::vector<PhotoError> errors =
@@ -205,9 +200,7 @@ void add_sphere_commands(CLI::App& app) {
   sphere->add_flag("--linear", args->linear, "Every image is linear, 8-bit ones too")->excludes(gamma);
   sphere->add_option("--models", args->models, "Comma-separated models, or 'all'")->capture_default_str();
   sphere->add_option("--metric", args->metric, "What to minimise: cosine, log, relative, l2")->capture_default_str();
-  sphere->add_option("--loss", args->loss, "Robust loss per sample: none, huber, cauchy (default huber)")
-      ->transform(CLI::CheckedTransformer(
-          std::map<std::string, LossKind>{{"none", LossKind::None}, {"huber", LossKind::Huber}, {"cauchy", LossKind::Cauchy}}));
+  sphere->add_option("--loss", args->loss, "Robust loss per sample: none, huber, cauchy")->capture_default_str();
   sphere->add_option("--max-samples", args->max_samples, "Fit a deterministic random subset of this many pixels (0: all)")->capture_default_str();
   sphere->add_option("--seed", args->seed, "Seed of the subset");
   sphere->add_option("--threads", args->threads, "Threads (0: every core)");

@@ -1,10 +1,13 @@
-// Command-line options shared by the commands that fit (fit, score, batch, sphere).
+// Command-line options shared by the commands that fit (fit, score, batch, sphere), and how they
+// print values.
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <fmt/format.h>
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "brdffit/error.h"
 #include "brdffit/fit.h"
@@ -41,6 +44,14 @@ struct ConvergeArg {
     if (converge) options.polish_after = SIZE_MAX;
   }
 };
+
+// One value as it is, several as [a,b,c], each with `format` (a fmt format such as "{:.4g}").
+inline std::string format_values(const std::vector<double>& xs, const char* format) {
+  if (xs.size() == 1) return fmt::format(fmt::runtime(format), xs[0]);
+  std::string out = "[";
+  for (size_t i = 0; i < xs.size(); ++i) out += (i ? "," : "") + fmt::format(fmt::runtime(format), xs[i]);
+  return out + "]";
+}
 
 inline Metric metric_from(const std::string& name) {
   const std::optional<Metric> metric = parse_metric(name);
