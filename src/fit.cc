@@ -578,6 +578,15 @@ void report_parameters(const Model& model, const std::vector<ChannelFit>& fits, 
 
 }  // namespace
 
+const char* verdict_name(Verdict verdict) {
+  switch (verdict) {
+    case Verdict::Good: return "good";
+    case Verdict::Poor: return "poor";
+    case Verdict::Failed: break;
+  }
+  return "failed";
+}
+
 FitResult fit_model(const Model& model, const SampleSet& data, const FitOptions& options) {
   if (data.empty()) fail("{}: no samples to fit", data.source.empty() ? "input" : data.source);
   for (const Sample& s : data.samples)
@@ -628,6 +637,7 @@ FitResult fit_model(const Model& model, const SampleSet& data, const FitOptions&
                       std::isfinite(result.metrics.get(options.metric));
   result.ok = failure.empty() && finite;
   if (!result.ok) result.error = !failure.empty() ? "the fit diverged (" + failure + ")" : "the fit produced non-finite values";
+  result.verdict = result.ok ? Verdict::Good : Verdict::Failed;
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return result;
 }

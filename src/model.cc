@@ -50,6 +50,36 @@ const ParamSpec* Model::find_parameter(const std::string& param_name) const {
   return nullptr;
 }
 
+const std::vector<Nesting>& Model::nestings() const {
+  static const std::vector<Nesting> none;
+  return none;
+}
+
+std::vector<double> embed_values(const Model& outer, const Nesting& nesting, const Model& inner,
+                                 const std::vector<double>& inner_values) {
+  std::vector<double> values = outer.default_values();
+  auto place = [&](const std::string& name) {
+    const ParamSpec* p = outer.find_parameter(name);
+    if (!p) fail("{}: nesting of {} names no parameter '{}'", outer.name(), inner.name(), name);
+    return std::pair{p, outer.offset_of(name)};
+  };
+  for (const Nesting::Copy& copy : nesting.copies) {
+    const auto [to, to_offset] = place(copy.to);
+    const ParamSpec* from = inner.find_parameter(copy.from);
+    if (!from) fail("{}: nesting names no parameter '{}' of {}", outer.name(), copy.from, inner.name());
+    const int from_offset = inner.offset_of(copy.from);
+    for (int c = 0; c < to->channels; ++c) {
+      const double x = inner_values[from_offset + (from->channels == 3 ? c : 0)];
+      values[to_offset + c] = std::clamp(copy.transform ? copy.transform(x) : x, to->lower, to->upper);
+    }
+  }
+  for (const auto& [name, value] : nesting.fixed) {
+    const auto [p, offset] = place(name);
+    std::fill_n(values.begin() + offset, p->channels, value);
+  }
+  return values;
+}
+
 const Model* find_model(const std::string& name) {
   for (const auto& m : all_models())
     if (m->name() == name) return m.get();

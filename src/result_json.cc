@@ -37,6 +37,12 @@ nlohmann::json metrics_json(const Metrics& m) {
           {"l2", number(m.l2)},         {"max", number(m.max)}};
 }
 
+Verdict verdict_from(const std::string& name, const std::string& path) {
+  for (Verdict v : {Verdict::Good, Verdict::Poor, Verdict::Failed})
+    if (name == verdict_name(v)) return v;
+  fail("{}: unknown verdict '{}' (good, poor or failed)", path, name);
+}
+
 const char* loss_name(LossKind loss) {
   switch (loss) {
     case LossKind::Huber: return "huber";
@@ -57,6 +63,8 @@ nlohmann::json fit_result_json(const FitResult& result) {
                           {"at_bound", p.at_bound}};
   nlohmann::json out = {{"model", result.model},
                         {"status", result.ok ? "ok" : "failed"},
+                        {"verdict", verdict_name(result.verdict)},
+                        {"warnings", result.warnings},
                         {"error", result.ok ? nlohmann::json(nullptr) : nlohmann::json(result.error)},
                         {"parameters", parameters},
                         {"metrics", metrics_json(result.metrics)},
@@ -107,6 +115,8 @@ FitDocument read_fit_document(const std::string& path) {
       r.model = m.at("model").get<std::string>();
       r.ok = m.at("status") == "ok";
       if (!r.ok && m.at("error").is_string()) r.error = m.at("error").get<std::string>();
+      r.verdict = verdict_from(m.value("verdict", r.ok ? "good" : "failed"), path);
+      r.warnings = m.value("warnings", std::vector<std::string>{});
       r.values = m.at("values").get<std::vector<double>>();
       if (m.contains("channel_values")) r.channel_values = m.at("channel_values").get<std::vector<std::vector<double>>>();
       for (const auto& [name, p] : m.at("parameters").items()) {

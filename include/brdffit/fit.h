@@ -47,10 +47,20 @@ struct ParameterEstimate {
   bool at_bound = false;       // the optimum sits on a bound (its stddev is only indicative)
 };
 
+// Whether a fit describes its data (see verdict_for in fit.cc for the thresholds):
+// good, poor (clearly worse than the baseline, a Lambert fit on the same samples, or leaving
+// most of the data unexplained), failed (no usable fit at all).
+enum class Verdict { Good, Poor, Failed };
+const char* verdict_name(Verdict verdict);
+
 struct FitResult {
   std::string model;
   bool ok = false;
   std::string error;                      // why the fit failed, when !ok
+  Verdict verdict = Verdict::Failed;
+  // One line each, for a user: why the verdict is poor, parameters at a bound or not
+  // identifiable and what that means, what the fitter pinned and why.
+  std::vector<std::string> warnings;
   std::vector<double> values;             // flattened, in the model's parameter order
   // With per_channel: the full value vector fitted for each channel (R, G, B); a channel's
   // prediction uses its own vector. `values` then holds channel R's shape parameters.

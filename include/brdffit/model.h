@@ -26,6 +26,25 @@ namespace brdffit {
 
 struct ResidualBatch;  // fit_residual.h
 
+// How a simpler model sits inside a model: the values of the outer model that describe the
+// inner one. The fitter fits the inner model first and starts the outer one from its optimum
+// mapped this way, and selects on all samples, so an exact nesting's error is never above the
+// inner model's. Values: copied from the inner model's (optionally transformed), or fixed; every
+// other value at the outer model's default.
+struct Nesting {
+  struct Copy {
+    std::string to, from;                 // outer and inner parameter names
+    double (*transform)(double) = nullptr;  // inner value -> outer value; nullptr: unchanged
+  };
+  std::string inner;                                  // the contained model's name
+  std::vector<Copy> copies;
+  std::vector<std::pair<std::string, double>> fixed;  // outer parameter = value (every channel)
+  // true: the mapped values reproduce the inner model's shaded values exactly (the guarantee
+  // holds); false: only approximately (a good start, no guarantee).
+  bool exact = true;
+  std::string why;  // one line for users: what is switched off or mapped
+};
+
 class Model {
  public:
   virtual ~Model() = default;
@@ -47,12 +66,19 @@ class Model {
   // A Ceres cost function covering a batch of samples (see fit_residual.h); owned by caller.
   virtual ceres::CostFunction* new_batch_cost(const ResidualBatch& batch) const = 0;
 
+  // The simpler models this one contains (see Nesting); empty for none.
+  virtual const std::vector<Nesting>& nestings() const;
+
   int num_values() const { return flattened_size(parameters()); }
   std::vector<double> default_values() const;
   // Offset of the named parameter in the flattened values, or -1.
   int offset_of(const std::string& param_name) const;
   const ParamSpec* find_parameter(const std::string& param_name) const;
 };
+
+// The outer model's values that describe `inner` with `inner_values` under `nesting`.
+std::vector<double> embed_values(const Model& outer, const Nesting& nesting, const Model& inner,
+                                 const std::vector<double>& inner_values);
 
 // Every model brdffit knows, in a stable order.
 const std::vector<std::unique_ptr<Model>>& all_models();

@@ -4,10 +4,13 @@
 //
 // A model struct provides kName, kSummary, kEnergyConserving, kNumValues, parameters(), and
 // either brdf<T>(p, l, v) (physically based: shade = f·max(n·l,0) is derived here) or
-// shade<T>(p, l, v) (stylised: the seed's shader expression without the light colour).
+// shade<T>(p, l, v) (stylised: the seed's shader expression without the light colour);
+// optionally nestings() (model.h: the simpler models it contains).
 #pragma once
 
 #include <ceres/jet.h>
+
+#include <type_traits>
 
 #include "brdffit/fit_residual.h"
 #include "brdffit/model.h"
@@ -17,7 +20,7 @@ namespace brdffit {
 template <class M>
 class ModelAdapter final : public Model {
  public:
-  ModelAdapter() : name_(M::kName), summary_(M::kSummary), params_(M::parameters()) {
+  ModelAdapter() : name_(M::kName), summary_(M::kSummary), params_(M::parameters()), nestings_(nestings_of<M>()) {
     static_assert(M::kNumValues > 0, "a model needs parameters");
   }
 
@@ -54,9 +57,22 @@ class ModelAdapter final : public Model {
     return new BatchCost<M>(batch);
   }
 
+  const std::vector<Nesting>& nestings() const override { return nestings_; }
+
  private:
+  template <class N, class = void>
+  struct HasNestings : std::false_type {};
+  template <class N>
+  struct HasNestings<N, std::void_t<decltype(N::nestings())>> : std::true_type {};
+  template <class N>
+  static std::vector<Nesting> nestings_of() {
+    if constexpr (HasNestings<N>::value) return N::nestings();
+    else return {};
+  }
+
   std::string name_, summary_;
   std::vector<ParamSpec> params_;
+  std::vector<Nesting> nestings_;
 };
 
 }  // namespace brdffit
