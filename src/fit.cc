@@ -589,9 +589,7 @@ const char* verdict_name(Verdict verdict) {
 
 FitResult fit_model(const Model& model, const SampleSet& data, const FitOptions& options) {
   if (data.empty()) fail("{}: no samples to fit", data.source.empty() ? "input" : data.source);
-  for (const Sample& s : data.samples)
-    if (!s.value.allFinite() || !std::isfinite(s.weight) || s.weight < 0.0)
-      fail("{}: a sample has a non-finite value or an invalid weight", data.source.empty() ? "input" : data.source);
+  check_sample_magnitudes(data);  // before any solver: values that would overflow its cost are refused
 
   const auto started = std::chrono::steady_clock::now();
   FitResult result;
