@@ -67,6 +67,7 @@ struct FitArgs {
 };
 
 void run_fit(const FitArgs& args) {
+  check_outputs({args.data}, {args.out, args.csv});  // before the work, not after it
   FitOptions options;
   options.metric = metric_from(args.metric);
   options.loss = loss_from(args.loss);
@@ -124,7 +125,7 @@ void add_fit_commands(CLI::App& app) {
   fit_cmd->add_option("--loss", fit->loss, "Robust loss per sample: none, huber, cauchy");
   fit_cmd->add_flag("--per-channel", fit->per_channel, "Fit shape parameters per colour channel");
   fit->converge.add_to(fit_cmd);
-  fit_cmd->add_option("--threads", fit->threads, "Threads (0: every core)");
+  fit_cmd->add_option("--threads", fit->threads, "Threads (0: every core)")->check(kThreadsRange);
   fit_cmd->add_option("--out", fit->out, "Write the result document (JSON)");
   fit_cmd->add_option("--csv", fit->csv, "Write one row per model (CSV)");
   fit->sampling.add_to(fit_cmd);

@@ -18,6 +18,14 @@
 
 namespace brdffit::cli {
 
+// The ranges counts given on the command line must lie in, checked by CLI11 before a command
+// runs: a negative or absurd value (--threads -5, --max-samples -1) is a typo, never a wish.
+inline const CLI::Range kThreadsRange(0, 1024);               // --threads (0: every core)
+inline const CLI::Range kJobsRange(1, 1024);                  // --jobs
+inline const CLI::Range kCountRange(int64_t{0}, int64_t{1000000000000});  // --max-samples, --top (0: all)
+inline const CLI::Range kFramesRange(1, 100000);              // --frames
+inline const CLI::Validator& kSeedRange = CLI::NonNegativeNumber;  // --seed: any uint64, not -1 wrapped
+
 struct SamplingArgs {
   double max_angle = 90.0;
   size_t max_samples = 0;
@@ -26,8 +34,9 @@ struct SamplingArgs {
   void add_to(CLI::App* command) {
     command->add_option("--max-angle", max_angle, "Leave out samples with θi or θo above this (degrees; Ngan used 80)")
         ->check(CLI::Range(1.0, 90.0));
-    command->add_option("--max-samples", max_samples, "Fit a deterministic random subset of this many samples (0: all)");
-    command->add_option("--seed", seed, "Seed of the subset");
+    command->add_option("--max-samples", max_samples, "Fit a deterministic random subset of this many samples (0: all)")
+        ->check(kCountRange);
+    command->add_option("--seed", seed, "Seed of the subset")->check(kSeedRange);
   }
   SamplingOptions options() const { return {max_angle, max_samples, seed}; }
 };

@@ -690,9 +690,7 @@ using ChannelVectors = std::array<std::vector<double>, 3>;
 
 void check_fit_input(const SampleSet& data) {
   if (data.empty()) fail("{}: no samples to fit", data.source.empty() ? "input" : data.source);
-  for (const Sample& s : data.samples)
-    if (!s.value.allFinite() || !std::isfinite(s.weight) || s.weight < 0.0)
-      fail("{}: a sample has a non-finite value or an invalid weight", data.source.empty() ? "input" : data.source);
+  check_sample_magnitudes(data);  // before any solver: values that would overflow its cost are refused
 }
 
 // Fits one model from its grid and from the contained models' optima `nested`. A per-channel
