@@ -19,8 +19,10 @@
 //   many published fits (e.g. gold-metallic-paint, c·(θ−θ0)^k > ln(1 + 1/Λ)); a negative
 //   fraction of visible facets means none. BBM does not clamp, so where both G1 are negative it
 //   multiplies them into a positive value; we return 0 there. This only touches grazing samples.
-// - Huge c (aluminium's c = 16): the exponent c(θ−θ0)^k is capped at 50 before exp, so values
-//   and derivatives stay finite; G1 is then 1 − Λ·5e21 ≈ 0 after clamping unless Λ < 1e-21.
+// - Huge c (published values reach 1e109, with k in the hundreds): c(θ−θ0)^k is computed in log
+//   space and capped at 50 before exp, so values and derivatives stay finite; G1 is then
+//   1 − Λ·5e21, i.e. 0 after clamping unless Λ < 1e-21. Such a fit is a sharp cut-off of the
+//   visible facets where c(θ−θ0)^k passes ln(1 + 1/Λ).
 // - Negative θ0 (gold, blue-acrylic, blue-metallic-paint2): the formula applies from θ = 0 on,
 //   as in BBM (θ − θ0 > 0 everywhere, so the power is defined), and G1(0) may be below 1.
 // - F is clamped to [0, ∞): with f1 > f0 the modified Schlick goes negative at normal incidence.
@@ -57,20 +59,23 @@ struct Sgd {
   static constexpr double kMaxShadowingExponent = 50.0;  // cap of c(θ−θ0)^k before exp
 
   static std::vector<ParamSpec> parameters() {
+    // Defaults (where fits start) are the medians of Bagher's 100 MERL fits (bagher_sgd.fit),
+    // bounds cover their 10-90 % range and more; K's default is BBM's.
     return {albedo_param(),
-            specular_param(10.0, 0.1, "scale of the specular lobe per channel (Bagher's albedo)"),
-            {"alpha", 3, 1e-5, 2.0, 0.05, "SGD width α: smaller is a sharper highlight", Role::Roughness, false, false,
+            specular_param(10.0, 0.12, "scale of the specular lobe per channel (Bagher's albedo)"),
+            {"alpha", 3, 1e-5, 2.0, 0.025, "SGD width α: smaller is a sharper highlight", Role::Roughness, false, false,
              Spacing::Log},
-            {"p", 3, 0.0, 2.0, 0.5, "SGD shape p: larger gives the highlight a longer tail", Role::Shape},
-            {"f0", 3, -1.0, 10.0, 0.1, "Fresnel reflectance at normal incidence (Bagher's eta[0])", Role::F0},
-            {"f1", 3, -2.0, 10.0, 0.0, "linear correction of the Fresnel term, −f1·(l·h) (Bagher's eta[1])",
+            {"p", 3, 0.0, 2.0, 0.45, "SGD shape p: larger gives the highlight a longer tail", Role::Shape},
+            {"f0", 3, 0.0, 10.0, 0.07, "Fresnel reflectance at normal incidence (Bagher's eta[0])", Role::F0},
+            {"f1", 3, -1.0, 10.0, 0.0, "linear correction of the Fresnel term, −f1·(l·h) (Bagher's eta[1])",
              Role::Shape},
             {"K", 3, 1e-3, 1e5, 7.5, "normalisation of the distribution (Bagher's K; only specular·K matters)",
              Role::Shape, false, false, Spacing::Log},
-            {"lambda", 3, 0.0, 20.0, 1.0, "strength Λ of the fitted shadowing at grazing angles", Role::Shape},
-            {"c", 3, 0.0, 100.0, 0.01, "rate c of the fitted shadowing", Role::Shape},
-            {"k", 3, 0.0, 500.0, 10.0, "exponent k of the fitted shadowing", Role::Shape},
-            {"theta0", 3, -kPi / 2, kPi / 2, 0.5, "angle θ0 (radians) where the fitted shadowing starts", Role::Shape}};
+            {"lambda", 3, 0.0, 100.0, 3.0, "strength Λ of the fitted shadowing at grazing angles", Role::Shape},
+            {"c", 3, 1e-10, 1e12, 6e-7, "rate c of the fitted shadowing", Role::Shape, false, false, Spacing::Log},
+            {"k", 3, 0.0, 1000.0, 24.5, "exponent k of the fitted shadowing", Role::Shape},
+            {"theta0", 3, -kPi / 2, kPi / 2, 0.23, "angle θ0 (radians) where the fitted shadowing starts",
+             Role::Shape}};
   }
 
   static std::vector<Nesting> nestings() {
@@ -84,7 +89,8 @@ struct Sgd {
     using std::log;
     const T& theta0 = p[kTheta0 + c];
     if (!(T(theta) > theta0)) return T(1.0);
-    const T exponent = p[kC + c] * exp(p[kKExponent + c] * log(theta - theta0));
+    // c (θ−θ0)^k in log space: published c reach 1e109 with k in the hundreds.
+    const T exponent = exp(log(p[kC + c]) + p[kKExponent + c] * log(theta - theta0));
     const T grow = exponent < T(kMaxShadowingExponent) ? T(exp(exponent)) : T(std::exp(kMaxShadowingExponent));
     const T g1 = 1.0 + p[kLambda + c] * (1.0 - grow);
     return g1 > T(0.0) ? g1 : T(0.0);
