@@ -9,7 +9,9 @@
 //
 // TABLE_DIR holds the decompressed merl-proxy tables (<material>.binary); SHARED_DIR is
 // ../shared. MODEL... limits the rows to these models. Prints one row per material, model and
-// metric, as soon as it is measured.
+// metric, as soon as it is measured. A model with approximate nestings (sgd: cook-torrance) is
+// also fitted from its inner model's optimum, as `brdffit fit --models cook-torrance,sgd` does;
+// seconds include that. Where we lose, the row adds the fit started from the published values.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -46,6 +48,26 @@ const std::vector<Row> kRows = {
     {"sgd", "bagher_sgd.fit", Metric::Log, false},
 };
 
+// fit_model, plus what the fitter does with a model's approximate nestings when their inner
+// model is fitted in the same run: start from the inner optimum mapped (embed_values), keep the
+// better. Seconds add up.
+FitResult fit_with_nestings(const Model& model, const SampleSet& data, const FitOptions& options) {
+  FitResult best = fit_model(model, data, options);
+  double seconds = best.seconds;
+  for (const Nesting& nesting : model.nestings()) {
+    if (nesting.exact) continue;
+    const Model& inner = *find_model(nesting.inner);
+    const FitResult inner_fit = fit_model(inner, data, options);
+    FitOptions from_inner = options;
+    from_inner.initial_values = embed_values(model, nesting, inner, inner_fit.values);
+    FitResult nested = fit_model(model, data, from_inner);
+    seconds += inner_fit.seconds + nested.seconds;
+    if (nested.ok && nested.metrics.get(options.metric) < best.metrics.get(options.metric)) best = std::move(nested);
+  }
+  best.seconds = seconds;
+  return best;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -73,12 +95,27 @@ int main(int argc, char** argv) {
           const double theirs = evaluate_metrics(model, *published, data).get(row.metric);
           FitOptions options;
           options.metric = row.metric;
-          const FitResult ours = fit_model(model, data, options);
+          const FitResult ours = fit_with_nestings(model, data, options);
           const double mine = ours.metrics.get(row.metric);
           const std::string label =
               fmt::format("{} ({}{})", row.file, metric_name(row.metric), low_weighting ? ", Löw" : "");
-          fmt::print("{:<20} {:<22} {:<28} {:>12.6g} {:>12.6g} {:>8.3f} {:>8.1f}{}\n", material, row.model, label,
+          fmt::print("{:<20} {:<22} {:<28} {:>12.6g} {:>12.6g} {:>8.3f} {:>8.1f}{}", material, row.model, label,
                      theirs, mine, mine / theirs, ours.seconds, ours.ok ? "" : "  " + ours.error);
+          if (mine > theirs) {
+            // For the fitter's owner: is it the start or the descent? The same fit started from
+            // the published values, clamped into our bounds.
+            FitOptions from_published = options;
+            from_published.initial_values = *published;
+            const std::vector<ParamSpec> specs = model.parameters();
+            for (size_t i = 0, offset = 0; i < specs.size(); offset += specs[i].channels, ++i)
+              for (int c = 0; c < specs[i].channels; ++c)
+                from_published.initial_values[offset + c] =
+                    std::clamp(from_published.initial_values[offset + c], specs[i].lower, specs[i].upper);
+            const FitResult restarted = fit_model(model, data, from_published);
+            fmt::print("  (started from the published values: {:.6g}, {:.1f} s)", restarted.metrics.get(row.metric),
+                       restarted.seconds);
+          }
+          fmt::print("\n");
           std::fflush(stdout);
         }
       }

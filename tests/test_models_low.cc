@@ -138,6 +138,19 @@ TEST(Sgd, HandValues) {
                                                   "K=10", "lambda=1", "c=2", "k=2", "theta0=-0.3"});
   const double g1 = 1 + (1 - std::exp(2 * 0.09));
   EXPECT_NEAR(brdf("sgd", q, kN, kN)[0], d_r * 0.05 * g1 * g1 / kPi, 1e-12);
+  // c = 0 (no shadowing; below the bounds, where a fit's bound handling may put it) and k at
+  // its bound 1000 with θ0 = −π/2 ((θ−θ0)^k ≈ e^1145): finite values and derivatives.
+  const Model& sgd = *find_model("sgd");
+  for (auto [c_value, k_value] : {std::pair{0.0, 2.0}, std::pair{1e-10, 1000.0}}) {
+    std::vector<double> r = q;
+    std::fill_n(r.begin() + sgd.offset_of("c"), 3, c_value);
+    std::fill_n(r.begin() + sgd.offset_of("k"), 3, k_value);
+    std::fill_n(r.begin() + sgd.offset_of("theta0"), 3, -kPi / 2);
+    std::vector<double> jacobian(3 * sgd.num_values());
+    const Rgb<double> s = sgd.shade_with_jacobian(r.data(), kL, kMirrorV, jacobian.data());
+    EXPECT_TRUE(s.allFinite());
+    for (double x : jacobian) EXPECT_TRUE(std::isfinite(x)) << c_value << " " << k_value;
+  }
 }
 
 TEST(LowModels, ContainLambertExactly) {
@@ -146,7 +159,7 @@ TEST(LowModels, ContainLambertExactly) {
   for (const char* name : kModels) {
     SCOPED_TRACE(name);
     const Model& model = *find_model(name);
-    ASSERT_EQ(model.nestings().size(), 1u);
+    ASSERT_GE(model.nestings().size(), 1u);
     const Nesting& nesting = model.nestings()[0];
     EXPECT_EQ(nesting.inner, "lambert");
     EXPECT_TRUE(nesting.exact);
@@ -157,6 +170,22 @@ TEST(LowModels, ContainLambertExactly) {
       expect_rgb_near(model.shade(outer.data(), l, v), lambert.shade(inner.data(), l, v), 1e-15);
     }
   }
+}
+
+TEST(Sgd, ContainsCookTorranceWhereItsShadowingIsOne) {
+  // The approximate nesting: Beckmann's D and Schlick's F are reproduced exactly; only the
+  // V-groove G is missing, so where G = 1 (l = (0.6,0,0.8), v = n: min(1, 1.6, 2)) the two agree.
+  const Model& sgd = *find_model("sgd");
+  const Model& ct = *find_model("cook-torrance");
+  ASSERT_EQ(sgd.nestings().size(), 2u);
+  const Nesting& nesting = sgd.nestings()[1];
+  EXPECT_EQ(nesting.inner, "cook-torrance");
+  EXPECT_FALSE(nesting.exact);
+  const std::vector<double> inner = parameter_values(ct, {"albedo=0.1,0.2,0.3", "specular=0.5,0.4,0.3", "f0=0.2", "m=0.3"});
+  const std::vector<double> outer = embed_values(sgd, nesting, ct, inner);
+  EXPECT_NEAR(outer[sgd.offset_of("alpha")], 0.09, 1e-15);
+  EXPECT_NEAR(outer[sgd.offset_of("K")], std::exp(0.09) / 0.09, 1e-12);
+  expect_rgb_near(sgd.shade(outer.data(), kL, kN), ct.shade(inner.data(), kL, kN), 1e-12);
 }
 
 TEST(LowModels, AutodiffMatchesFiniteDifferencesAndIsReciprocal) {

@@ -19,8 +19,8 @@
 //   many published fits (e.g. gold-metallic-paint, c·(θ−θ0)^k > ln(1 + 1/Λ)); a negative
 //   fraction of visible facets means none. BBM does not clamp, so where both G1 are negative it
 //   multiplies them into a positive value; we return 0 there. This only touches grazing samples.
-// - Huge c (published values reach 1e109, with k in the hundreds): c(θ−θ0)^k is computed in log
-//   space and capped at 50 before exp, so values and derivatives stay finite; G1 is then
+// - Huge c (published values reach 1e109, with k in the hundreds): c(θ−θ0)^k is capped at 50
+//   before exp ((θ−θ0)^k in log space), so values and derivatives stay finite; G1 is then
 //   1 − Λ·5e21, i.e. 0 after clamping unless Λ < 1e-21. Such a fit is a sharp cut-off of the
 //   visible facets where c(θ−θ0)^k passes ln(1 + 1/Λ).
 // - Negative θ0 (gold, blue-acrylic, blue-metallic-paint2): the formula applies from θ = 0 on,
@@ -28,7 +28,8 @@
 // - F is clamped to [0, ∞): with f1 > f0 the modified Schlick goes negative at normal incidence.
 // Reciprocal; not energy conserving.
 //
-// Contains `lambert` exactly: specular = 0 switches the lobe off.
+// Contains `lambert` exactly: specular = 0 switches the lobe off; and `cook-torrance`
+// approximately (see nestings()).
 #pragma once
 
 #include "brdffit/models/common.h"
@@ -78,8 +79,23 @@ struct Sgd {
              Role::Shape}};
   }
 
+  // Beckmann's D is the SGD with p = 0, α = m², K = e^(m²)/m²; with Λ = 0 (G = 1) and f1 = 0
+  // Schlick's F, this is Ngan's Cook-Torrance without its V-groove G: an approximate nesting,
+  // the start the fitter takes from a Cook-Torrance fit (sgd's parameters are all per channel,
+  // so the multi-start grid, which spans scalar parameters only, gives sgd no other start).
+  static double alpha_of_m(double m) { return m * m; }
+  static double k_of_m(double m) { return std::exp(m * m) / (m * m); }
   static std::vector<Nesting> nestings() {
-    return {{"lambert", {{"albedo", "albedo"}}, {{"specular", 0.0}}, true, "specular = 0 switches the lobe off"}};
+    return {{"lambert", {{"albedo", "albedo"}}, {{"specular", 0.0}}, true, "specular = 0 switches the lobe off"},
+            {"cook-torrance",
+             {{"albedo", "albedo"},
+              {"specular", "specular"},
+              {"f0", "f0"},
+              {"alpha", "m", alpha_of_m},
+              {"K", "m", k_of_m}},
+             {{"p", 0.0}, {"f1", 0.0}, {"lambda", 0.0}},
+             false,
+             "Cook-Torrance's Beckmann D and Schlick F, without its V-groove shadowing"}};
   }
 
   // G1 of one channel for a direction at polar angle theta (clamped and capped: see above).
@@ -89,9 +105,16 @@ struct Sgd {
     using std::log;
     const T& theta0 = p[kTheta0 + c];
     if (!(T(theta) > theta0)) return T(1.0);
-    // c (θ−θ0)^k in log space: published c reach 1e109 with k in the hundreds.
-    const T exponent = exp(log(p[kC + c]) + p[kKExponent + c] * log(theta - theta0));
-    const T grow = exponent < T(kMaxShadowingExponent) ? T(exp(exponent)) : T(std::exp(kMaxShadowingExponent));
+    // (θ−θ0)^k in log space: published k reach 856. Where it alone passes e^700, c(θ−θ0)^k is
+    // far above the cap for any c in the bounds; otherwise c·(θ−θ0)^k stays finite (published c
+    // reach 1e109 where (θ−θ0)^k is tiny) and c = 0 keeps finite derivatives.
+    const T log_power = p[kKExponent + c] * log(theta - theta0);
+    const T capped = T(std::exp(kMaxShadowingExponent));
+    T grow = capped;
+    if (log_power < T(700.0)) {
+      const T exponent = p[kC + c] * exp(log_power);
+      if (exponent < T(kMaxShadowingExponent)) grow = exp(exponent);
+    }
     const T g1 = 1.0 + p[kLambda + c] * (1.0 - grow);
     return g1 > T(0.0) ? g1 : T(0.0);
   }
