@@ -2,6 +2,7 @@
 #pragma once
 
 #include "brdffit/math.h"
+#include "brdffit/model.h"
 #include "brdffit/param.h"
 
 namespace brdffit::models {
@@ -32,6 +33,12 @@ T beckmann_ndf(double cos_theta_h, const T& m) {
   const double cos2 = cos_theta_h * cos_theta_h, tan2 = (1.0 - cos2) / cos2;
   const T m2 = m * m;
   return exp(-tan2 / m2) / (kPi * m2 * cos2 * cos2);
+}
+
+// The exact nesting of `lambert` in a lobe over a Lambert base: the same albedo, the lobe's
+// linear scale `scale` at 0.
+inline Nesting lambert_nesting(const std::string& scale) {
+  return {"lambert", {{"albedo", "albedo"}}, {{scale, 0.0}}, true, scale + " = 0 switches the lobe off"};
 }
 
 template <class T>

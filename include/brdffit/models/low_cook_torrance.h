@@ -18,7 +18,6 @@
 
 #include "brdffit/models/common.h"
 #include "brdffit/models/cook_terms.h"
-#include "brdffit/model.h"
 
 namespace brdffit::models {
 
@@ -38,7 +37,7 @@ struct LowCookTorrance {
   }
 
   static std::vector<Nesting> nestings() {
-    return {{"lambert", {{"albedo", "albedo"}}, {{"specular", 0.0}}, true, "specular = 0 switches the lobe off"}};
+    return {lambert_nesting("specular")};
   }
 
   template <class T>

@@ -19,7 +19,6 @@
 
 #include "brdffit/models/common.h"
 #include "brdffit/models/cook_terms.h"
-#include "brdffit/model.h"
 
 namespace brdffit::models {
 
@@ -42,7 +41,7 @@ struct LowMicrofacet {
   }
 
   static std::vector<Nesting> nestings() {
-    return {{"lambert", {{"albedo", "albedo"}}, {{"A", 0.0}}, true, "A = 0 switches the lobe off"}};
+    return {lambert_nesting("A")};
   }
 
   template <class T>

@@ -33,7 +33,6 @@
 #pragma once
 
 #include "brdffit/models/common.h"
-#include "brdffit/model.h"
 
 namespace brdffit::models {
 
@@ -86,7 +85,7 @@ struct Sgd {
   static double alpha_of_m(double m) { return m * m; }
   static double k_of_m(double m) { return std::exp(m * m) / (m * m); }
   static std::vector<Nesting> nestings() {
-    return {{"lambert", {{"albedo", "albedo"}}, {{"specular", 0.0}}, true, "specular = 0 switches the lobe off"},
+    return {lambert_nesting("specular"),
             {"cook-torrance",
              {{"albedo", "albedo"},
               {"specular", "specular"},
