@@ -4,11 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 
 #include "brdffit/error.h"
 #include "brdffit/fit.h"
 #include "brdffit/io.h"
 #include "brdffit/measured.h"
+#include "brdffit/published_fits.h"
 #include "brdffit/result_json.h"
 #include "commands.h"
 #include "fit_options.h"
@@ -91,27 +93,55 @@ void run_fit(const FitArgs& args) {
 }
 
 struct ScoreArgs {
-  std::string data, model;
+  std::string data, model, published, material;
   std::vector<std::string> params;
   SamplingArgs sampling;
   bool json = false;
 };
 
+nlohmann::json metrics_json(const Metrics& m) {
+  return {{"cosine", m.cosine}, {"log", m.log}, {"relative", m.relative}, {"l2", m.l2}, {"max", m.max}};
+}
+
+std::string metrics_line(const Metrics& m) {
+  return fmt::format("cosine {:.6g}  log {:.6g}  relative {:.6g}  l2 {:.6g}  max {:.6g}", m.cosine, m.log, m.relative,
+                     m.l2, m.max);
+}
+
+// --published: every model the material's published fit maps onto, scored on the table.
+void run_score_published(const ScoreArgs& args, const SampleSet& data) {
+  const std::string material =
+      args.material.empty() ? std::filesystem::path(args.data).stem().string() : args.material;
+  const std::vector<PublishedFit> fits = find_published_fits(args.published, material);
+  nlohmann::json out = nlohmann::json::array();
+  for (const PublishedFit& fit : fits) {
+    const Metrics m = evaluate_metrics(*find_model(fit.model), fit.values, data);
+    if (args.json) {
+      out.push_back({{"material", material}, {"model", fit.model}, {"published", fit.term},
+                     {"values", fit.values}, {"metrics", metrics_json(m)}});
+    } else {
+      fmt::print("{} ({} of {} in {}) on {} ({} samples, {} weights)\n{}\n", fit.model, fit.term, material,
+                 args.published, args.data, data.size(), data.weighting, metrics_line(m));
+    }
+  }
+  if (args.json) fmt::print("{}\n", out.dump());
+}
+
 void run_score(const ScoreArgs& args) {
-  const Model* model = find_model(args.model);
-  if (!model) fail("unknown model '{}' (known: {})", args.model, model_names());
-  const std::vector<double> values = parameter_values(*model, args.params);
+  if (args.model.empty() == args.published.empty()) fail("score: give either --model or --published");
+  if (!args.material.empty() && args.published.empty()) fail("score: --material needs --published");
+  const Model* model = args.model.empty() ? nullptr : find_model(args.model);
+  if (!args.model.empty() && !model) fail("unknown model '{}' (known: {})", args.model, model_names());
+  const std::vector<double> values = model ? parameter_values(*model, args.params) : std::vector<double>{};
   const SampleSet data = load_samples(args.data, args.sampling.options());
   if (data.empty()) fail("{}: no samples left to score (check --max-angle)", args.data);
+  if (!model) return run_score_published(args, data);
   const Metrics m = evaluate_metrics(*model, values, data);
   if (args.json) {
-    const nlohmann::json out = {
-        {"metrics", {{"cosine", m.cosine}, {"log", m.log}, {"relative", m.relative}, {"l2", m.l2}, {"max", m.max}}}};
-    fmt::print("{}\n", out.dump());
+    fmt::print("{}\n", nlohmann::json{{"metrics", metrics_json(m)}}.dump());
     return;
   }
-  fmt::print("{} on {} ({} samples)\ncosine {:.6g}  log {:.6g}  relative {:.6g}  l2 {:.6g}  max {:.6g}\n", model->name(),
-             args.data, data.size(), m.cosine, m.log, m.relative, m.l2, m.max);
+  fmt::print("{} on {} ({} samples)\n{}\n", model->name(), args.data, data.size(), metrics_line(m));
 }
 
 }  // namespace
@@ -134,7 +164,11 @@ void add_fit_commands(CLI::App& app) {
   auto score = std::make_shared<ScoreArgs>();
   CLI::App* score_cmd = app.add_subcommand("score", "Every error metric of given model parameters on a table");
   score_cmd->add_option("data", score->data, "Measured table")->required();
-  score_cmd->add_option("--model", score->model, "Model name")->required();
+  score_cmd->add_option("--model", score->model, "Model name (or --published)");
+  score_cmd->add_option("--published", score->published,
+                        "A BBM .fit file of published parameters: scores the material's line for every model it maps onto");
+  score_cmd->add_option("--material", score->material,
+                        "The line of --published to score (default: the table's file name without extension)");
   score_cmd->add_option("--param", score->params, "NAME=VALUE (colours: one value or R,G,B); repeatable");
   score_cmd->add_flag("--json", score->json, "Print JSON");
   score->sampling.add_to(score_cmd);

@@ -30,6 +30,7 @@ struct SamplingArgs {
   double max_angle = 90.0;
   size_t max_samples = 0;
   uint64_t seed = 1;
+  std::string weighting = "solid-angle";
 
   void add_to(CLI::App* command) {
     command->add_option("--max-angle", max_angle, "Leave out samples with θi or θo above this (degrees; Ngan used 80)")
@@ -37,8 +38,11 @@ struct SamplingArgs {
     command->add_option("--max-samples", max_samples, "Fit a deterministic random subset of this many samples (0: all)")
         ->check(kCountRange);
     command->add_option("--seed", seed, "Seed of the subset")->check(kSeedRange);
+    command->add_option("--weighting", weighting,
+                        "solid-angle (Ngan 2005), or low: ÷ sinθo, Löw 2012's measure (with --metric log: Löw's E2)")
+        ->check(CLI::IsMember({"solid-angle", "low"}));
   }
-  SamplingOptions options() const { return {max_angle, max_samples, seed}; }
+  SamplingOptions options() const { return {max_angle, max_samples, seed, weighting == "low"}; }
 };
 
 // --converge: on a large table the stage on all samples walks to convergence instead of

@@ -1,5 +1,6 @@
 #include "brdffit/published_fits.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
@@ -160,9 +161,14 @@ namespace {
 // Each of our literature models, the one published lobe it maps, and for each of our
 // parameters besides `albedo` the published parameter it takes (same meaning, no rescaling).
 struct Mapping {
+  struct Parameter {
+    const char* ours;
+    const char* theirs;
+    int row = -1;  // >= 0: this row of a nested list (Bagher's eta = [[f0...], [f1...]]); -1: all of it
+  };
   const char* model;
   const char* term;
-  std::vector<std::pair<const char*, const char*>> parameters;  // ours, theirs
+  std::vector<Parameter> parameters;
 };
 
 const std::vector<Mapping>& mappings() {
@@ -172,22 +178,51 @@ const std::vector<Mapping>& mappings() {
       {"ashikhmin-shirley", "NganAshikhminShirley",
        {{"specular", "albedo"}, {"f0", "fresnelReflectance"}, {"n", "sharpness"}}},
       {"lafortune", "NganLafortune", {{"specular", "albedo"}, {"cxy", "Cxy"}, {"cz", "Cz"}, {"n", "sharpness"}}},
+      {"low-smooth", "LowSmooth", {{"A", "A"}, {"B", "B"}, {"C", "C"}, {"eta", "eta"}}},
+      {"low-microfacet", "LowMicrofacetFit", {{"A", "A"}, {"B", "B"}, {"C", "C"}, {"eta", "eta"}}},
+      {"low-cook-torrance", "LowCookTorrance", {{"specular", "albedo"}, {"m", "roughness"}, {"eta", "eta"}}},
+      {"low-ashikhmin-shirley", "LowAshikhminShirley",
+       {{"specular", "albedo"}, {"n", "sharpness"}, {"eta", "fresnelReflectance"}}},
+      {"sgd", "Bagher",
+       {{"specular", "albedo"},
+        {"alpha", "alpha"},
+        {"p", "p"},
+        {"f0", "eta", 0},
+        {"f1", "eta", 1},
+        {"K", "K"},
+        {"lambda", "Lambda"},
+        {"c", "c"},
+        {"k", "k"},
+        {"theta0", "theta0"}}},
   };
   return list;
 }
 
-// Writes a published parameter into our flattened values: colours take 3 values (or one, for
-// grey), scalars exactly one.
-bool copy(const PublishedTerm& term, const std::string& from, const Model& model, const std::string& to,
+// Writes a published parameter (or one row of it) into our flattened values: colours take 3
+// values (or one, for grey), scalars exactly one.
+bool copy(const PublishedTerm& term, const Mapping::Parameter& parameter, const Model& model,
           std::vector<double>& values) {
-  const auto it = term.parameters.find(from);
-  const ParamSpec* spec = model.find_parameter(to);
+  const auto it = term.parameters.find(parameter.theirs);
+  const ParamSpec* spec = model.find_parameter(parameter.ours);
   if (it == term.parameters.end() || !spec) return false;
   std::vector<double> v = it->second;
+  if (parameter.row >= 0) {  // rows of `channels` values each
+    const size_t row = static_cast<size_t>(parameter.row), n = static_cast<size_t>(spec->channels);
+    if (v.size() % n != 0 || (row + 1) * n > v.size()) return false;
+    v = std::vector<double>(v.begin() + row * n, v.begin() + (row + 1) * n);
+  }
   if (v.size() == 1) v.assign(spec->channels, v[0]);
   if (static_cast<int>(v.size()) != spec->channels) return false;
-  std::copy(v.begin(), v.end(), values.begin() + model.offset_of(to));
+  std::copy(v.begin(), v.end(), values.begin() + model.offset_of(parameter.ours));
   return true;
+}
+
+// The number of distinct published parameters a mapping reads.
+size_t published_parameter_count(const Mapping& mapping) {
+  std::vector<std::string> names;
+  for (const Mapping::Parameter& p : mapping.parameters)
+    if (std::find(names.begin(), names.end(), p.theirs) == names.end()) names.push_back(p.theirs);
+  return names.size();
 }
 
 }  // namespace
@@ -205,18 +240,30 @@ std::optional<std::vector<double>> to_model_values(const Model& model, const std
     if (!lobe) return std::nullopt;
     std::vector<double> values = model.default_values();
     if (lambertian) {
-      if (lambertian->parameters.size() != 1 || !copy(*lambertian, "albedo", model, "albedo", values))
+      if (lambertian->parameters.size() != 1 || !copy(*lambertian, {"albedo", "albedo"}, model, values))
         return std::nullopt;
     } else {
       std::fill_n(values.begin() + model.offset_of("albedo"), 3, 0.0);
     }
-    if (lobe->parameters.size() != mapping.parameters.size()) return std::nullopt;  // one we cannot represent
-    for (const auto& [ours, theirs] : mapping.parameters)
-      if (!copy(*lobe, theirs, model, ours, values)) return std::nullopt;
+    if (lobe->parameters.size() != published_parameter_count(mapping)) return std::nullopt;  // one we cannot represent
+    for (const Mapping::Parameter& parameter : mapping.parameters)
+      if (!copy(*lobe, parameter, model, values)) return std::nullopt;
     return values;
   }
   return std::nullopt;
 }
+
+namespace {
+
+PublishedFit published_fit(const std::string& material, const Model& model, const std::vector<PublishedTerm>& terms,
+                           std::vector<double> values) {
+  std::string term;
+  for (const PublishedTerm& t : terms)
+    if (t.model != "Lambertian") term = t.model;
+  return PublishedFit{material, model.name(), term, std::move(values)};
+}
+
+}  // namespace
 
 std::optional<PublishedFit> find_published_fit(const std::string& fit_file, const std::string& material,
                                                const Model& model) {
@@ -225,10 +272,31 @@ std::optional<PublishedFit> find_published_fit(const std::string& fit_file, cons
   if (it == fits.end()) return std::nullopt;
   std::optional<std::vector<double>> values = to_model_values(model, it->second);
   if (!values) return std::nullopt;
-  std::string term;
-  for (const PublishedTerm& t : it->second)
-    if (t.model != "Lambertian") term = t.model;
-  return PublishedFit{material, model.name(), term, std::move(*values)};
+  return published_fit(material, model, it->second, std::move(*values));
+}
+
+std::vector<PublishedFit> find_published_fits(const std::string& fit_file, const std::string& material) {
+  const auto fits = read_published_fits(fit_file);
+  const auto it = fits.find(material);
+  if (it == fits.end()) {
+    std::string some;
+    int listed = 0;
+    for (const auto& [name, terms] : fits)
+      if (listed++ < 5) some += (some.empty() ? "" : ", ") + name;
+    fail("{}: no material '{}' ({} materials{}{})", fit_file, material, fits.size(), fits.empty() ? "" : ": ",
+         some + (fits.size() > 5 ? ", ..." : ""));
+  }
+  std::vector<PublishedFit> found;
+  for (const auto& model : all_models())
+    if (std::optional<std::vector<double>> values = to_model_values(*model, it->second))
+      found.push_back(published_fit(material, *model, it->second, std::move(*values)));
+  if (found.empty()) {
+    std::string terms;
+    for (const PublishedTerm& t : it->second) terms += (terms.empty() ? "" : " + ") + t.model;
+    fail("{}: the fit of '{}' ({}) maps onto none of brdffit's models (see `brdffit score --help`)", fit_file, material,
+         terms);
+  }
+  return found;
 }
 
 }  // namespace brdffit

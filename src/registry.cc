@@ -10,9 +10,14 @@
 #include "brdffit/models/half_lambert.h"
 #include "brdffit/models/lafortune.h"
 #include "brdffit/models/lambert.h"
+#include "brdffit/models/low_ashikhmin_shirley.h"
+#include "brdffit/models/low_cook_torrance.h"
+#include "brdffit/models/low_microfacet.h"
+#include "brdffit/models/low_smooth.h"
 #include "brdffit/models/minnaert.h"
 #include "brdffit/models/oren_nayar.h"
 #include "brdffit/models/phong.h"
+#include "brdffit/models/sgd.h"
 #include "brdffit/models/toon.h"
 #include "brdffit/models/ward.h"
 #include "brdffit/models/wrap.h"
@@ -47,6 +52,12 @@ const std::vector<std::unique_ptr<Model>>& all_models() {
     add<models::Ward>(list);
     add<models::AshikhminShirley>(list);
     add<models::Lafortune>(list);
+    // Löw 2012 and Bagher 2012 (BBM conventions: published fits plug in unchanged).
+    add<models::LowSmooth>(list);
+    add<models::LowMicrofacet>(list);
+    add<models::LowCookTorrance>(list);
+    add<models::LowAshikhminShirley>(list);
+    add<models::Sgd>(list);
     return list;
   }();
   return models;

@@ -34,6 +34,12 @@ void apply_sampling_options(SampleSet& set, const SamplingOptions& options) {
     for (size_t i = 0; i < picks.size(); ++i) samples[i] = samples[picks[i]];  // picks[i] >= i
     samples.resize(picks.size());
   }
+  if (options.low_weighting) {
+    // sinθo is floored at sin 0.5° so that samples straddling the normal keep a finite weight.
+    const double min_sin = std::sin(0.5 * kPi / 180.0);
+    for (Sample& s : samples) s.weight /= std::max(std::sqrt(std::max(0.0, 1.0 - s.v.z() * s.v.z())), min_sin);
+    set.weighting += " / sin(theta_o) (Low 2012)";
+  }
   // Return unused memory only when it is worth a transient copy of what remains.
   if (samples.size() < samples.capacity() / 2) samples.shrink_to_fit();
 }

@@ -3,7 +3,11 @@
 //
 // For sample i with weight w_i and channel c, with p = predicted and m = measured f·cosθi:
 //   cosine    sqrt(Σ w (p-m)² / Σ w)                     Ngan et al. 2005 (weights: solid angle)
-//   log       sqrt(Σ w (ln(1+p) - ln(1+m))² / Σ w)       Löw et al. 2012 E2, as libbsdf
+//   log       sqrt(Σ w (ln(1+p) - ln(1+m))² / Σ w)       Löw et al. 2012 E2, as libbsdf; with
+//             Löw's weights (SamplingOptions::low_weighting, `--weighting low`: w = solid angle
+//             / sinθo) exactly BBM's lowLog (include/loss/cosine_weighted_log.h), whose sum
+//             Σ (ln(1+f cosθi) − ln(1+m cosθi))² sinθi over a (θi, φi, θo) grid estimates the
+//             same ∫dωi ∫dθo up to a constant factor (and the √(·/Σw), which ranks alike)
 //   relative  sqrt(Σ w ((p-m)/(m+ε))² / Σ w), ε = 1e-3  relative error, ε keeps dark bins finite
 //   l2        sqrt(Σ (p-m)² / N)                         plain RMS, weights ignored
 //   max       max |p-m|

@@ -16,11 +16,18 @@
 //   ashikhmin-shirley  Lambertian + NganAshikhminShirley(albedo, fresnelReflectance, sharpness)
 //                                                                                     ngan_ashikhminshirley.fit
 //   lafortune          Lambertian + NganLafortune(albedo, Cxy, Cz, sharpness)          ngan_lafortune.fit
+//   low-smooth         Lambertian + LowSmooth(A, B, C, eta)                           low_lowsmooth_E2.fit
+//   low-microfacet     Lambertian + LowMicrofacetFit(A, B, C, eta)                    low_lowmicrofacet_E2.fit
+//   low-cook-torrance  Lambertian + LowCookTorrance(albedo, roughness, eta)           low_cooktorrance_E1/E2.fit
+//   low-ashikhmin-shirley  Lambertian + LowAshikhminShirley(albedo, sharpness, fresnelReflectance)
+//                                                                                     low_ashikhminshirley_E1/E2.fit
+//   sgd                Lambertian + Bagher(albedo, alpha, p, eta = [[f0], [f1]], K, Lambda, c, k, theta0)
+//                                                                                     bagher_sgd.fit
 // Lambertian(albedo) is our albedo as it is (both are f = albedo/π); a missing Lambertian term
-// maps to albedo 0. Every published lobe "albedo" is our `specular`. NganWardDuer
-// (ngan_wardduer.fit) is a different lobe (1/(n·l n·v) instead of 1/√(n·l n·v)) and maps onto
-// none of our models; so do Löw's and Bagher's fits, Ngan's Blinn-Phong and He, and any fit with
-// more than one lobe (we fit one).
+// maps to albedo 0. Every published lobe "albedo" is our `specular`; other names are the
+// published ones (A, B, C, eta, ...) or their lower-case forms. NganWardDuer (ngan_wardduer.fit)
+// is a different lobe (1/(n·l n·v) instead of 1/√(n·l n·v)) and maps onto none of our models; so
+// do Ngan's Blinn-Phong and He, and any fit with more than one lobe (we fit one).
 #pragma once
 
 #include <map>
@@ -61,5 +68,10 @@ struct PublishedFit {
 // (naming the file and line) when the file is malformed.
 std::optional<PublishedFit> find_published_fit(const std::string& fit_file, const std::string& material,
                                                const Model& model);
+
+// `material`'s fit in `fit_file` mapped onto every one of our models it maps onto (usually one),
+// in the registry's order. Throws Error naming the file when it is malformed, has no such
+// material (listing a few it has), or when the fit maps onto none of our models (naming its terms).
+std::vector<PublishedFit> find_published_fits(const std::string& fit_file, const std::string& material);
 
 }  // namespace brdffit

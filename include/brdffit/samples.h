@@ -30,6 +30,11 @@ struct SamplingOptions {
   double max_angle_deg = 90.0;  // drop samples with θi or θo above this (Ngan 2005 used 80°)
   size_t max_samples = 0;       // 0: keep all; otherwise a deterministic subset of this size
   uint64_t seed = 1;            // for the subset
+  // true: each weight is divided by sinθo, so that a weighted sum over a table's samples
+  // estimates ∫dωi ∫dθo (Löw et al. 2012's measure, BBM's lowL2 and lowLog losses: the light
+  // over the hemisphere, the view over θo only) instead of ∫dωi ∫dωo. With the "cosine" metric
+  // this is Löw's E1, with "log" Löw's E2 (see metric.h).
+  bool low_weighting = false;
 };
 
 // Whether both directions lie within options.max_angle_deg of the normal (+z). Sources that
@@ -38,7 +43,8 @@ bool within_angle_limit(const SamplingOptions& options, const Vec3& l, const Vec
 
 // Drops samples beyond the angle limit, then keeps a deterministic random subset of
 // options.max_samples, in the set's order (weights are kept; the subset is uniform so relative
-// weights stay meaningful). The same seed and set always give the same subset. Works in place.
+// weights stay meaningful). The same seed and set always give the same subset. Then applies
+// options.low_weighting. Works in place.
 void apply_sampling_options(SampleSet& set, const SamplingOptions& options);
 
 // Largest |value| and weight the fitter accepts: squared and summed over millions of samples

@@ -39,9 +39,9 @@ T beckmann_ndf(double cos_theta_h, const T& m) {
 
 // Lambert inside a lobe over the same Lambert base: the lobe's linear scale at 0 leaves exactly
 // albedo/π.
-inline Nesting lambert_under_lobe(const char* scale = "specular") {
+inline Nesting lambert_under_lobe(const std::string& scale = "specular") {
   return {"lambert", {{"albedo", "albedo"}}, {{scale, 0.0}}, true,
-          std::string("lambert: ") + scale + " = 0 switches the lobe off and leaves the same Lambert base"};
+          "lambert: " + scale + " = 0 switches the lobe off and leaves the same Lambert base"};
 }
 
 // Stylised models return the shader's albedo·n·l without Lambert's 1/π (the light's intensity

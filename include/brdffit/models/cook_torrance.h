@@ -24,6 +24,7 @@
 #pragma once
 
 #include "brdffit/models/common.h"
+#include "brdffit/models/cook_terms.h"
 
 namespace brdffit::models {
 
@@ -51,8 +52,7 @@ struct CookTorrance {
     const Vec3 h = half_vector(l, v);
     const double nh = h.z(), lh = l.dot(h);
     const T d = beckmann_ndf(nh, p[kM]);
-    const double g = std::min({1.0, 2.0 * nh * nl / lh, 2.0 * nh * nv / lh});
-    const T lobe = d * g * schlick_fresnel(p[kF0], lh) / (kPi * nl * nv);
+    const T lobe = d * vgroove_masking(nh, nl, nv, lh) * schlick_fresnel(p[kF0], lh) / (kPi * nl * nv);
     return f + colour(p + kSpecular) * lobe;
   }
 };

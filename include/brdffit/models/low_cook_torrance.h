@@ -1,0 +1,58 @@
+// Löw et al. 2012's Cook-Torrance over a Lambert base: Cook & Torrance 1982 as they wrote it,
+// with an index of refraction, in the convention of BBM's include/bsdfmodel/cooktorrance.h
+// ("LowCookTorrance" in BBM's low.h):
+//
+//   f = albedo/π + specular · D · G · F_ck(η, l·h) / (π (n·l)(n·v))
+//   D = exp(−tan²θh/m²) / (m² cos⁴θh)                  Beckmann WITHOUT the 1/π of its normalised form
+//   G = V-groove masking-shadowing, F_ck = Cook's Fresnel (cook_terms.h)
+// and 0 for the lobe when a direction is below the horizon. Compared with our `cook-torrance`
+// (Ngan's convention) the differences are D's missing 1/π (so `specular` is π times smaller for
+// the same lobe) and Cook's Fresnel with η instead of Schlick's with f0.
+//
+// Published "Aggregate(Lambertian(albedo), LowCookTorrance(albedo, roughness, eta))"
+// (low_cooktorrance_E1/E2.fit) maps onto albedo, specular = their lobe's albedo, m = roughness,
+// eta. Reciprocal; not energy conserving.
+//
+// Contains `lambert` exactly: specular = 0 switches the lobe off.
+#pragma once
+
+#include "brdffit/models/common.h"
+#include "brdffit/models/cook_terms.h"
+
+namespace brdffit::models {
+
+struct LowCookTorrance {
+  static constexpr const char* kName = "low-cook-torrance";
+  static constexpr const char* kSummary =
+      "albedo/π + specular·D·G·F_ck(η,l·h)/(π n·l n·v): Beckmann D without 1/π, V-groove G, Cook's Fresnel (Löw 2012)";
+  static constexpr bool kEnergyConserving = false;
+  enum : int { kAlbedo = 0, kSpecular = 3, kM = 6, kEta = 7, kNumValues = 8 };
+
+  static std::vector<ParamSpec> parameters() {
+    return {albedo_param(),
+            specular_param(10.0, 0.1, "scale of the specular lobe per channel (Löw's LowCookTorrance albedo)"),
+            {"m", 1, 0.001, 1.0, 0.2, "Beckmann roughness: RMS slope of the microfacets (Löw's roughness)",
+             Role::Roughness, false, false, Spacing::Log},
+            {"eta", 1, 1.0, 20.0, 1.5, "index of refraction of Cook's Fresnel (Löw's eta)", Role::F0}};
+  }
+
+  static std::vector<Nesting> nestings() {
+    return {lambert_under_lobe("specular")};
+  }
+
+  template <class T>
+  static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
+    Rgb<T> f = lambert_term(p + kAlbedo);
+    const double nl = l.z(), nv = v.z();
+    if (nl <= 0.0 || nv <= 0.0) return f;
+    const Vec3 h = half_vector(l, v);
+    const double nh = h.z(), lh = l.dot(h);
+    if (lh <= 0.0) return f;
+    // π·beckmann_ndf is D without its 1/π; it cancels the π of the denominator.
+    const T lobe =
+        beckmann_ndf(nh, p[kM]) * vgroove_masking(nh, nl, nv, lh) * cook_fresnel(p[kEta], lh) / (nl * nv);
+    return f + colour(p + kSpecular) * lobe;
+  }
+};
+
+}  // namespace brdffit::models

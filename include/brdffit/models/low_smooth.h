@@ -1,0 +1,55 @@
+// Löw et al. 2012's smooth-surface ("ABC") model over a Lambert base, in the convention of BBM's
+// include/bsdfmodel/lowsmooth.h (the one the published low_lowsmooth_E2.fit values were made for):
+//
+//   f = albedo/π + A · (1 + B·|l_xy + v_xy|²)^(−C) · F_ck(η, cosθd)
+//   cosθd = √(max(0, 1 − ¼|l_xy − v_xy|²))         (BBM's eq. 14 form, projected directions)
+// and 0 for the lobe when a direction is below the horizon. F_ck is Cook's dielectric Fresnel
+// (cook_terms.h). There is no 1/(n·l n·v): A is an unnormalised scale (values over 1000 are
+// common for shiny materials), B and C shape the lobe around the mirror direction.
+//
+// Published "Aggregate(Lambertian(albedo), LowSmooth(A, B, C, eta))" maps 1:1 onto albedo, A, B,
+// C, eta. Reciprocal (symmetric in l and v); not energy conserving (A is unbounded by design).
+//
+// Contains `lambert` exactly: A = 0 switches the lobe off.
+#pragma once
+
+#include "brdffit/models/common.h"
+#include "brdffit/models/cook_terms.h"
+
+namespace brdffit::models {
+
+struct LowSmooth {
+  static constexpr const char* kName = "low-smooth";
+  static constexpr const char* kSummary =
+      "albedo/π + A·(1+B|l_xy+v_xy|²)^(−C)·F_ck(η, cosθd): Löw 2012 smooth-surface ABC model (BBM lowsmooth)";
+  static constexpr bool kEnergyConserving = false;
+  enum : int { kAlbedo = 0, kA = 3, kB = 6, kC = 7, kEta = 8, kNumValues = 9 };
+
+  static std::vector<ParamSpec> parameters() {
+    return {albedo_param(),
+            {"A", 3, 0.0, 100000.0, 1.0, "unnormalised scale of the lobe per channel (Löw's A)", Role::SpecularColour,
+             /*linear=*/true},
+            {"B", 1, 0.01, 1e7, 100.0, "sharpness: how fast the lobe falls away from the mirror direction (Löw's B)",
+             Role::Roughness, false, false, Spacing::Log},
+            {"C", 1, 0.0, 10.0, 1.0, "exponent of the fall-off: the shape of the lobe's tail (Löw's C)", Role::Shape},
+            {"eta", 1, 1.0, 20.0, 1.5, "index of refraction of Cook's Fresnel (Löw's eta)", Role::F0}};
+  }
+
+  static std::vector<Nesting> nestings() {
+    return {lambert_under_lobe("A")};
+  }
+
+  template <class T>
+  static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
+    using std::pow;
+    Rgb<T> f = lambert_term(p + kAlbedo);
+    if (l.z() < 0.0 || v.z() < 0.0) return f;
+    const double sum_x = l.x() + v.x(), sum_y = l.y() + v.y();
+    const double diff_x = l.x() - v.x(), diff_y = l.y() - v.y();
+    const double cos_theta_d = std::sqrt(std::max(0.0, 1.0 - 0.25 * (diff_x * diff_x + diff_y * diff_y)));
+    const T lobe = pow(1.0 + p[kB] * (sum_x * sum_x + sum_y * sum_y), -p[kC]) * cook_fresnel(p[kEta], cos_theta_d);
+    return f + colour(p + kA) * lobe;
+  }
+};
+
+}  // namespace brdffit::models

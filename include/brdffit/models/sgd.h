@@ -1,0 +1,148 @@
+// Bagher, Soler & Holzschuch 2012's Shifted Gamma Distribution (SGD) microfacet model over a
+// Lambert base, in the convention of BBM's include/bsdfmodel/bagher.h and include/ndf/sgd.h (the
+// one bagher_sgd.fit was written for). Every lobe parameter is per channel:
+//
+//   f = albedo/π + specular · D · G · F / (π (n·l)(n·v))
+//   D = K · exp(−t) / t^p / (π cos⁴θh),  t = α + tan²θh/α   (0 where t^p ≤ machine ε, as BBM)
+//   G = G1(l) · G1(v), G1(ω) = 1 + Λ(1 − exp(c (θω − θ0)^k)) for θω > θ0, else 1
+//   F = f0 + (1 − f0)(1 − l·h)^5 − f1·(l·h)                Bagher's modified Schlick
+// and 0 for the lobe when a direction is below the horizon. BBM folds Bagher's normalisation of
+// D (α^(p−1)/Γ(1−p, α)) into K, so K and specular scale the lobe together: only their product
+// is identifiable, both are kept so that published values plug in unchanged.
+//
+// Published "Aggregate(Lambertian(albedo), Bagher(albedo, alpha, p, eta = [[f0...], [f1...]], K,
+// Lambda, c, k, theta0))" maps onto albedo, specular = their lobe's albedo, and the rest by name
+// (eta's first row is f0, its second f1).
+//
+// Edge cases, chosen deliberately (BBM leaves them to the formula):
+// - G1 is clamped to [0, ∞): the fitted rational shadowing goes negative at grazing angles for
+//   many published fits (e.g. gold-metallic-paint, c·(θ−θ0)^k > ln(1 + 1/Λ)); a negative
+//   fraction of visible facets means none. BBM does not clamp, so where both G1 are negative it
+//   multiplies them into a positive value; we return 0 there. This only touches grazing samples.
+// - Huge c (published values reach 1e109, with k in the hundreds): c(θ−θ0)^k is capped at 50
+//   before exp ((θ−θ0)^k in log space), so values and derivatives stay finite; G1 is then
+//   1 − Λ·5e21, i.e. 0 after clamping unless Λ < 1e-21. Such a fit is a sharp cut-off of the
+//   visible facets where c(θ−θ0)^k passes ln(1 + 1/Λ).
+// - Negative θ0 (gold, blue-acrylic, blue-metallic-paint2): the formula applies from θ = 0 on,
+//   as in BBM (θ − θ0 > 0 everywhere, so the power is defined), and G1(0) may be below 1.
+// - F is clamped to [0, ∞): with f1 > f0 the modified Schlick goes negative at normal incidence.
+// Reciprocal; not energy conserving.
+//
+// Contains `lambert` exactly: specular = 0 switches the lobe off; and `cook-torrance`
+// approximately (see nestings()).
+#pragma once
+
+#include "brdffit/models/common.h"
+
+namespace brdffit::models {
+
+struct Sgd {
+  static constexpr const char* kName = "sgd";
+  static constexpr const char* kSummary =
+      "albedo/π + specular·D·G1G1·F/(π n·l n·v): Shifted Gamma Distribution, fitted shadowing, modified Schlick "
+      "(Bagher 2012)";
+  static constexpr bool kEnergyConserving = false;
+  enum : int {
+    kAlbedo = 0,
+    kSpecular = 3,
+    kAlpha = 6,
+    kP = 9,
+    kF0 = 12,
+    kF1 = 15,
+    kK = 18,
+    kLambda = 21,
+    kC = 24,
+    kKExponent = 27,
+    kTheta0 = 30,
+    kNumValues = 33
+  };
+  static constexpr double kMaxShadowingExponent = 50.0;  // cap of c(θ−θ0)^k before exp
+
+  static std::vector<ParamSpec> parameters() {
+    // Defaults (where fits start) are the medians of Bagher's 100 MERL fits (bagher_sgd.fit),
+    // bounds cover their 10-90 % range and more; K's default is BBM's.
+    return {albedo_param(),
+            specular_param(10.0, 0.12, "scale of the specular lobe per channel (Bagher's albedo)"),
+            {"alpha", 3, 1e-5, 2.0, 0.025, "SGD width α: smaller is a sharper highlight", Role::Roughness, false, false,
+             Spacing::Log},
+            {"p", 3, 0.0, 2.0, 0.45, "SGD shape p: larger gives the highlight a longer tail", Role::Shape},
+            {"f0", 3, 0.0, 10.0, 0.07, "Fresnel reflectance at normal incidence (Bagher's eta[0])", Role::F0},
+            {"f1", 3, -1.0, 10.0, 0.0, "linear correction of the Fresnel term, −f1·(l·h) (Bagher's eta[1])",
+             Role::Shape},
+            {"K", 3, 1e-3, 1e5, 7.5, "normalisation of the distribution (Bagher's K; only specular·K matters)",
+             Role::Shape, false, false, Spacing::Log},
+            {"lambda", 3, 0.0, 100.0, 3.0, "strength Λ of the fitted shadowing at grazing angles", Role::Shape},
+            {"c", 3, 1e-10, 1e12, 6e-7, "rate c of the fitted shadowing", Role::Shape, false, false, Spacing::Log},
+            {"k", 3, 0.0, 1000.0, 24.5, "exponent k of the fitted shadowing", Role::Shape},
+            {"theta0", 3, -kPi / 2, kPi / 2, 0.23, "angle θ0 (radians) where the fitted shadowing starts",
+             Role::Shape}};
+  }
+
+  // Beckmann's D is the SGD with p = 0, α = m², K = e^(m²)/m²; with Λ = 0 (G = 1) and f1 = 0
+  // Schlick's F, this is Ngan's Cook-Torrance without its V-groove G: an approximate nesting,
+  // the start the fitter takes from a Cook-Torrance fit (sgd's parameters are all per channel,
+  // so the multi-start grid, which spans scalar parameters only, gives sgd no other start).
+  static double alpha_of_m(double m) { return m * m; }
+  static double k_of_m(double m) { return std::exp(m * m) / (m * m); }
+  static std::vector<Nesting> nestings() {
+    return {lambert_under_lobe("specular"),
+            {"cook-torrance",
+             {{"albedo", "albedo"},
+              {"specular", "specular"},
+              {"f0", "f0"},
+              {"alpha", "m", alpha_of_m},
+              {"K", "m", k_of_m}},
+             {{"p", 0.0}, {"f1", 0.0}, {"lambda", 0.0}},
+             false,
+             "Cook-Torrance's Beckmann D and Schlick F, without its V-groove shadowing"}};
+  }
+
+  // G1 of one channel for a direction at polar angle theta (clamped and capped: see above).
+  template <class T>
+  static T shadowing(const T* p, int c, double theta) {
+    using std::exp;
+    using std::log;
+    const T& theta0 = p[kTheta0 + c];
+    if (!(T(theta) > theta0)) return T(1.0);
+    // (θ−θ0)^k in log space: published k reach 856. Where it alone passes e^700, c(θ−θ0)^k is
+    // far above the cap for any c in the bounds; otherwise c·(θ−θ0)^k stays finite (published c
+    // reach 1e109 where (θ−θ0)^k is tiny) and c = 0 keeps finite derivatives.
+    const T log_power = p[kKExponent + c] * log(theta - theta0);
+    const T capped = T(std::exp(kMaxShadowingExponent));
+    T grow = capped;
+    if (log_power < T(700.0)) {
+      const T exponent = p[kC + c] * exp(log_power);
+      if (exponent < T(kMaxShadowingExponent)) grow = exp(exponent);
+    }
+    const T g1 = 1.0 + p[kLambda + c] * (1.0 - grow);
+    return g1 > T(0.0) ? g1 : T(0.0);
+  }
+
+  template <class T>
+  static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
+    using std::exp;
+    using std::log;
+    Rgb<T> f = lambert_term(p + kAlbedo);
+    const double nl = l.z(), nv = v.z();
+    if (nl <= 0.0 || nv <= 0.0) return f;
+    const Vec3 h = half_vector(l, v);
+    const double nh = h.z(), lh = l.dot(h);
+    if (nh <= 1e-6 || lh <= 0.0) return f;
+    const double cos2 = nh * nh, tan2 = (1.0 - cos2) / cos2;
+    const double theta_l = std::acos(std::min(nl, 1.0)), theta_v = std::acos(std::min(nv, 1.0));
+    const double schlick = std::pow(1.0 - lh, 5.0);
+    for (int c = 0; c < 3; ++c) {
+      const T t = p[kAlpha + c] + tan2 / p[kAlpha + c];
+      const T t_to_p = exp(p[kP + c] * log(t));
+      if (!(t_to_p > T(std::numeric_limits<double>::epsilon()))) continue;
+      const T d = p[kK + c] * exp(-t) / t_to_p / (kPi * cos2 * cos2);
+      const T g = shadowing(p, c, theta_l) * shadowing(p, c, theta_v);
+      T fresnel = p[kF0 + c] + (1.0 - p[kF0 + c]) * schlick - p[kF1 + c] * lh;
+      if (!(fresnel > T(0.0))) fresnel = T(0.0);
+      f[c] += p[kSpecular + c] * d * g * fresnel / (kPi * nl * nv);
+    }
+    return f;
+  }
+};
+
+}  // namespace brdffit::models
