@@ -31,7 +31,7 @@ MaterialRanking rank_material(const FitDocument& document, Metric metric) {
   for (const FitResult& fit : document.results) {
     const double error = fit.metrics.get(metric);
     const bool ok = fit.ok && std::isfinite(error);
-    ranking.models.push_back({fit.model, ok, ok ? error : NAN, 0});
+    ranking.models.push_back({fit.model, ok, ok ? error : NAN, 0, ok ? fit.verdict : Verdict::Failed});
   }
   std::stable_sort(ranking.models.begin(), ranking.models.end(), [](const RankedModel& a, const RankedModel& b) {
     if (a.ok != b.ok) return a.ok;
@@ -73,6 +73,7 @@ ModelSummary summarise_model(const std::string& model, const std::vector<Materia
       continue;
     }
     errors.push_back(m->error);
+    if (m->verdict == Verdict::Poor) ++summary.poor;
     if (m->rank == 1) ++summary.wins;
   }
   if (!errors.empty()) {
@@ -86,6 +87,9 @@ ModelSummary summarise_model(const std::string& model, const std::vector<Materia
 }
 
 std::string number(double x) { return std::isfinite(x) ? fmt::format("{:.4g}", x) : ""; }
+
+// " poor" after a poor fit's error, nothing after a good one's.
+const char* poor_mark(const RankedModel& m) { return m.verdict == Verdict::Poor ? " poor" : ""; }
 
 }  // namespace
 
@@ -128,28 +132,29 @@ Metric common_metric(const std::vector<FitDocument>& documents) {
 
 std::string comparison_text(const Comparison& c) {
   const std::string metric = metric_name(c.metric);
-  std::string text = fmt::format("{:<18} {:>6} {:>6} {:>12} {:>12} {:>9} {:>7}\n", "model", "fitted", "failed",
-                                 "mean " + metric, "median " + metric, "mean rank", "best on");
+  std::string text = fmt::format("{:<18} {:>6} {:>6} {:>6} {:>12} {:>12} {:>9} {:>7}\n", "model", "fitted", "poor",
+                                 "failed", "mean " + metric, "median " + metric, "mean rank", "best on");
   for (const ModelSummary& m : c.models)
-    text += fmt::format("{:<18} {:>6} {:>6} {:>12} {:>12} {:>9.2f} {:>7}\n", m.model, m.materials - m.failed, m.failed,
-                        number(m.mean_error), number(m.median_error), m.mean_rank, m.wins);
+    text += fmt::format("{:<18} {:>6} {:>6} {:>6} {:>12} {:>12} {:>9.2f} {:>7}\n", m.model, m.materials - m.failed,
+                        m.poor, m.failed, number(m.mean_error), number(m.median_error), m.mean_rank, m.wins);
   text += fmt::format("ranked by the {} metric over {} materials\n", metric, c.materials.size());
   for (const MaterialRanking& material : c.materials) {
     text += fmt::format("\n{}:", material.material);
     for (const RankedModel& m : material.models)
-      text += m.ok ? fmt::format("  {}. {} {:.4g}", m.rank, m.model, m.error) : fmt::format("  -. {} failed", m.model);
+      text += m.ok ? fmt::format("  {}. {} {:.4g}{}", m.rank, m.model, m.error, poor_mark(m))
+                   : fmt::format("  -. {} failed", m.model);
     text += "\n";
   }
   return text;
 }
 
 std::string comparison_csv(const Comparison& c) {
-  std::string csv = "model,fitted,failed,mean,median,mean_rank,wins";
+  std::string csv = "model,fitted,poor,failed,mean,median,mean_rank,wins";
   for (const MaterialRanking& material : c.materials)
     csv += "," + csv_field(material.material) + "," + csv_field(material.material + " rank");
   csv += "\n";
   for (const ModelSummary& m : c.models) {
-    csv += fmt::format("{},{},{},{},{},{:.6g},{}", csv_field(m.model), m.materials - m.failed, m.failed,
+    csv += fmt::format("{},{},{},{},{},{},{:.6g},{}", csv_field(m.model), m.materials - m.failed, m.poor, m.failed,
                        std::isfinite(m.mean_error) ? fmt::format("{:.9g}", m.mean_error) : "",
                        std::isfinite(m.median_error) ? fmt::format("{:.9g}", m.median_error) : "", m.mean_rank, m.wins);
     for (const MaterialRanking& material : c.materials) {
@@ -164,10 +169,11 @@ std::string comparison_csv(const Comparison& c) {
 std::string comparison_markdown(const Comparison& c) {
   const std::string metric = metric_name(c.metric);
   std::string md = fmt::format("Models ranked by the {} metric over {} materials.\n\n", metric, c.materials.size());
-  md += fmt::format("| model | fitted | failed | mean {0} | median {0} | mean rank | best on |\n", metric);
-  md += "|---|---:|---:|---:|---:|---:|---:|\n";
+  md += fmt::format("| model | fitted | poor | failed | mean {0} | median {0} | mean rank | best on |\n", metric);
+  md += "|---|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const ModelSummary& m : c.models)
-    md += fmt::format("| {} | {} | {} | {} | {} | {:.2f} | {} |\n", escape_markdown(m.model), m.materials - m.failed, m.failed,
+    md += fmt::format("| {} | {} | {} | {} | {} | {} | {:.2f} | {} |\n", escape_markdown(m.model), m.materials - m.failed,
+                      m.poor, m.failed,
                       number(m.mean_error), number(m.median_error), m.mean_rank, m.wins);
   md += "\n| material |";
   for (const ModelSummary& m : c.models) md += " " + escape_markdown(m.model) + " |";
@@ -183,7 +189,7 @@ std::string comparison_markdown(const Comparison& c) {
       else if (!r->ok)
         md += " failed |";
       else
-        md += fmt::format(r->rank == 1 ? " **{:.4g}** ({}) |" : " {:.4g} ({}) |", r->error, r->rank);
+        md += fmt::format(r->rank == 1 ? " **{:.4g}** ({}){} |" : " {:.4g} ({}){} |", r->error, r->rank, poor_mark(*r));
     }
     md += "\n";
   }

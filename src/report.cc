@@ -147,6 +147,9 @@ td.num { text-align: right; font-variant-numeric: tabular-nums; }
 .scroll { overflow-x: auto; }
 .matrix td.best { background: #d9f0d3; font-weight: bold; }
 .matrix td.failed, .failed { color: #999; font-style: italic; }
+.matrix td.poor { background: #fde2c8; color: #8a3b00; }
+.poor-verdict, .warning { color: #8a3b00; }
+.matrix td.poor::after { content: " poor"; font-size: 0.8em; }
 .pictures td { padding: 2px; }
 .pictures th.row { text-align: left; min-width: 9em; font-weight: normal; }
 .pictures img { display: block; background: #000; }
@@ -196,7 +199,9 @@ std::string comparison_html(const Comparison& c) {
       else if (!r->ok)
         out += "<td class=\"failed\">failed</td>";
       else
-        out += fmt::format("<td class=\"num{}\">{:.4g} ({})</td>", r->rank == 1 ? " best" : "", r->error, r->rank);
+        out += fmt::format("<td class=\"num{}{}\"{}>{:.4g} ({})</td>", r->rank == 1 ? " best" : "",
+                           r->verdict == Verdict::Poor ? " poor" : "",
+                           r->verdict == Verdict::Poor ? " title=\"poor fit: see its warnings\"" : "", r->error, r->rank);
     }
     out += "</tr>";
   }
@@ -288,6 +293,7 @@ std::string material_html(const FitDocument& document, const MaterialRanking& ra
     const bool is_measured = &row == measured;
     out += "<tr><th class=\"row\">" + html(row.label);
     if (!is_measured) out += fmt::format("<br><span class=\"params\">{} {:.4g}</span>", metric_name(*options.metric), row.error);
+    if (row.fit && row.fit->verdict == Verdict::Poor) out += "<br><span class=\"poor-verdict\">poor fit</span>";
     out += "</th>";
     if (!row.note.empty()) {
       out += fmt::format("<td colspan=\"6\" class=\"failed\">{}</td></tr>", html(row.note));
@@ -303,7 +309,10 @@ std::string material_html(const FitDocument& document, const MaterialRanking& ra
       out += image_tag(error_heatmap(channel_max_difference(row.slice, measured->slice), kErrorFullScale * slice_reference),
                        row.label + " slice error");
     out += "</td><td>" + polar_svg(measured, is_measured ? nullptr : &row, scale, options) + "</td>";
-    out += "<td class=\"params\">" + (row.fit ? parameters_html(*row.fit) : std::string()) + "</td></tr>";
+    std::string warnings;
+    if (row.fit)
+      for (const std::string& w : row.fit->warnings) warnings += "<br><span class=\"warning\">⚠ " + html(w) + "</span>";
+    out += "<td class=\"params\">" + (row.fit ? parameters_html(*row.fit) : std::string()) + warnings + "</td></tr>";
   }
   out += "</table>";
   if (!failures.empty()) out += "<p class=\"failed\">Fits that failed:</p><ul class=\"failed\">" + failures + "</ul>";

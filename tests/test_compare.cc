@@ -3,6 +3,8 @@
 
 #include "batch_test_util.h"
 #include "brdffit/compare.h"
+#include "brdffit/io.h"
+#include "brdffit/result_json.h"
 
 namespace brdffit {
 namespace {
@@ -86,12 +88,12 @@ TEST(CompareCli, PrintsAndWritesCsvAndMarkdown) {
   EXPECT_NE(r.output.find("m2:  1. ward 0.2  1. ggx 0.2  3. lambert 0.4"), std::string::npos) << r.output;
 
   const std::string csv = read_file(dir + "/c.csv");
-  EXPECT_EQ(csv.substr(0, csv.find('\n')), "model,fitted,failed,mean,median,mean_rank,wins,m1,m1 rank,m2,m2 rank,m3,m3 rank");
-  EXPECT_NE(csv.find("\nggx,3,0,0.166666667,0.2,1.33333,2,0.2,2,0.2,1,0.1,1\n"), std::string::npos) << csv;
-  EXPECT_NE(csv.find("\nward,2,1,0.15,0.15,1.66667,2,0.1,1,0.2,1,,3\n"), std::string::npos) << csv;
+  EXPECT_EQ(csv.substr(0, csv.find('\n')), "model,fitted,poor,failed,mean,median,mean_rank,wins,m1,m1 rank,m2,m2 rank,m3,m3 rank");
+  EXPECT_NE(csv.find("\nggx,3,0,0,0.166666667,0.2,1.33333,2,0.2,2,0.2,1,0.1,1\n"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("\nward,2,0,1,0.15,0.15,1.66667,2,0.1,1,0.2,1,,3\n"), std::string::npos) << csv;
 
   const std::string md = read_file(dir + "/c.md");
-  EXPECT_NE(md.find("| ggx | 3 | 0 | 0.1667 | 0.2 | 1.33 | 2 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| ggx | 3 | 0 | 0 | 0.1667 | 0.2 | 1.33 | 2 |"), std::string::npos) << md;
   EXPECT_NE(md.find("| m3 | **0.1** (1) | failed | 0.5 (2) |"), std::string::npos) << md;
 
   // Another metric is another ranking; a file that is not a result is named.
@@ -99,6 +101,21 @@ TEST(CompareCli, PrintsAndWritesCsvAndMarkdown) {
   const auto bad = test::run_cli("compare " + dir + "/m1.json " + dir + "/summary.json");
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.output.find("summary.json: not a brdffit result"), std::string::npos) << bad.output;
+}
+
+// A fit the document judges poor is still ranked by its error, and marked as poor everywhere
+// the comparison is shown: the text, the CSV's count and the Markdown matrix.
+TEST(CompareCli, MarksPoorFits) {
+  const std::string dir = write_known_documents(test::fresh_dir("compare-poor"));
+  nlohmann::json m1 = nlohmann::json::parse(read_file(dir + "/m1.json"));
+  for (auto& model : m1["models"])
+    if (model["model"] == "lambert") model["verdict"] = "poor";
+  write_file_atomic(dir + "/m1.json", m1.dump());
+  const auto r = test::run_cli("compare " + dir + " --csv " + dir + "/c.csv --markdown " + dir + "/c.md");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("m1:  1. ward 0.1  2. ggx 0.2  3. lambert 0.3 poor"), std::string::npos) << r.output;
+  EXPECT_NE(read_file(dir + "/c.csv").find("\nlambert,3,1,0,"), std::string::npos);
+  EXPECT_NE(read_file(dir + "/c.md").find(" 0.3 (3) poor |"), std::string::npos);
 }
 
 }  // namespace

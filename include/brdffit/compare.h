@@ -22,6 +22,7 @@ struct RankedModel {
   bool ok = false;
   double error = NAN;  // under the comparison's metric; NaN when the fit failed
   int rank = 0;
+  Verdict verdict = Verdict::Failed;  // as the document says: a poor fit is ranked but marked
 };
 
 struct MaterialRanking {
@@ -37,6 +38,7 @@ struct ModelSummary {
   std::string model;
   int materials = 0;  // materials whose document has this model
   int failed = 0;     // of those, where its fit failed
+  int poor = 0;       // of those, where its fit was judged poor
   double mean_error = NAN, median_error = NAN;  // over the materials where it fitted
   double mean_rank = NAN;
   int wins = 0;       // materials where its rank is 1
