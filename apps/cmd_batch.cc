@@ -67,6 +67,10 @@ class BatchProgress {
       if (o.status == MaterialStatus::Partial) line += "; failed: " + o.error;
     }
     if (!terminal_ && fitted() > 0 && done_ < total_) line += ", ETA " + duration_text(eta());
+    // A poor fit and a parameter on a bound or not identifiable: one warning line each.
+    for (const FitResult& fit : o.fits)
+      for (const std::string& warning : fit.warnings)
+        line += fmt::format("\n    {} {}: warning: {}", o.material.name, fit.model, warning);
     clear_bar();
     fmt::print(stderr, "{}\n", line);
     draw_bar();
