@@ -19,6 +19,7 @@
 // (specular = 0) does contain lambert exactly.
 #pragma once
 
+#include "brdffit/model.h"
 #include "brdffit/models/common.h"
 #include "brdffit/models/microfacet.h"
 

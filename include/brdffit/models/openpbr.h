@@ -2,8 +2,13 @@
 // restricted to an opaque surface: the base substrate only, i.e.
 //
 //   f = (1 - M)·f_glossy-diffuse + M·f_conductor                          M = base_metalness
-//   f_glossy-diffuse ≈ f_dielectric + (1 - E_dielectric(v))·f_diffuse     (the specification's
-//                                                                          non-reciprocal albedo scaling)
+//   f_glossy-diffuse ≈ f_dielectric + (1 - E(l))(1 - E(v))/(1 - Ē)·f_diffuse
+//
+// with E the directional albedo of the dielectric lobe and Ē its cosine-weighted average: the
+// specification's reciprocal (Kelemen / Kulla-Conty) form of the layering, whose normalisation
+// 1/(1 - Ē) makes the diffuse albedo (1 - E(v))·ρ for a Lambertian base, the same as its
+// non-reciprocal albedo scaling f_dielectric + (1 - E(v))·f_diffuse. The reciprocal form is used
+// so that f stays a BRDF (brdffit checks reciprocity of every physically based model).
 //
 // In, as specified:
 //  - Microfacet lobes: GGX with α = r² (r = specular_roughness) and the anisotropy mapping
@@ -28,37 +33,46 @@
 // subsurface, emission, geometry_opacity.
 //
 // Approximations:
-//  - E_dielectric(v), the directional albedo of the dielectric lobe, is interpolated
-//    (trilinearly in n·v, r and η) from a 17³ table computed once by integrating the isotropic
-//    lobe (α = r², the same mean width as the anisotropic one) without specular_color.
+//  - E, the directional albedo of the dielectric lobe, is interpolated (trilinearly in the
+//    cosine, r and η) from a 17³ table computed once by integrating the isotropic lobe (α = r²,
+//    the same mean width as the anisotropic one) without specular_color; Ē by Simpson's rule
+//    over the table's cosines. For a rough base (σ > 0) the normalisation is Lambert's, so the
+//    diffuse albedo is only approximately (1 - E)·(EON's albedo), as the specification allows.
+//  - The F82-tint Fresnel is clamped at 0: with a dark base_color and a low specular_color its
+//    correction term exceeds Schlick's value between grazing and normal incidence.
 //  - Single scattering: no multiple-scattering energy compensation of the microfacet lobes (the
 //    specification recommends one without prescribing it).
 // specular_roughness_anisotropy is bounded to 0.95 (at 1 the bitangent width αb is 0).
 //
 // Nesting (exact): `lambert` with specular_ior 1 (no dielectric reflection: F = 0 and
-// E_dielectric = 0), base_metalness 0 and base_diffuse_roughness 0 (EON is then ρ/π).
+// E = Ē = 0), base_metalness 0 and base_diffuse_roughness 0 (EON is then ρ/π).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
+#include "brdffit/model.h"
 #include "brdffit/models/common.h"
 #include "brdffit/models/microfacet.h"
 
 namespace brdffit::models {
 
 // E(μ, r, η): directional albedo of the dielectric GGX lobe (exact Fresnel, height-correlated
-// Smith) for an outgoing cosine μ, roughness r (α = r²) and index η, on a regular grid.
+// Smith) for an outgoing cosine μ, roughness r (α = r²) and index η, on a regular grid; and its
+// cosine-weighted average Ē(r, η) = 2∫E(μ)μ dμ as one more row after the μ rows.
 struct DielectricAlbedoTable {
   static constexpr int kSize = 17;
+  static constexpr int kAverageRow = kSize;
   static constexpr double kEtaMin = 1.0, kEtaMax = 3.0;
-  std::array<double, kSize * kSize * kSize> albedo{};
+  std::array<double, (kSize + 1) * kSize * kSize> albedo{};
+  double& at(int mu, int r, int eta) { return albedo[(mu * kSize + r) * kSize + eta]; }
   double at(int mu, int r, int eta) const { return albedo[(mu * kSize + r) * kSize + eta]; }
 
   // ∫ F D G2 /(4 μ_i μ_o) μ_i dω_i with ω_i the mirror of o about h and h drawn from D(h)(n·h):
   // the estimator is F(o·h)·G2·(o·h)/(μ_o (n·h)), averaged over a stratified grid of h.
   static double integrate(double mu, double roughness, double eta) {
-    const int kTheta = 32, kPhi = 32;
+    const int kTheta = 24, kPhi = 24;
     mu = std::max(mu, 1e-3);
     const Vec3 o(std::sqrt(1.0 - mu * mu), 0.0, mu);
     const double alpha = roughness * roughness, alpha2 = alpha * alpha;
@@ -84,12 +98,18 @@ struct DielectricAlbedoTable {
   static const DielectricAlbedoTable& get() {
     static const DielectricAlbedoTable table = [] {
       DielectricAlbedoTable t;
-      for (int m = 0; m < kSize; ++m)
-        for (int r = 0; r < kSize; ++r)
-          for (int e = 0; e < kSize; ++e)
-            t.albedo[(m * kSize + r) * kSize + e] =
-                integrate(double(m) / (kSize - 1), double(r) / (kSize - 1),
-                          kEtaMin + (kEtaMax - kEtaMin) * e / (kSize - 1));
+      for (int r = 0; r < kSize; ++r)
+        for (int e = 0; e < kSize; ++e) {
+          const double roughness = double(r) / (kSize - 1), eta = kEtaMin + (kEtaMax - kEtaMin) * e / (kSize - 1);
+          double average = 0.0;  // Simpson's rule over the μ rows for 2∫E(μ)μ dμ
+          for (int m = 0; m < kSize; ++m) {
+            const double mu = double(m) / (kSize - 1);
+            t.at(m, r, e) = integrate(mu, roughness, eta);
+            const double simpson = m == 0 || m == kSize - 1 ? 1.0 : (m % 2 ? 4.0 : 2.0);
+            average += simpson * t.at(m, r, e) * mu;
+          }
+          t.at(kAverageRow, r, e) = 2.0 * average / (3.0 * (kSize - 1));
+        }
       return t;
     }();
     return table;
@@ -106,24 +126,35 @@ int grid_cell(const T& x, T& fraction) {
   return cell;
 }
 
+// Bilinear in (r, η) between the rows mu_row and mu_row + 1 weighted 1 - mu_fraction, mu_fraction.
 template <class T>
-T dielectric_albedo(double mu, const T& roughness, const T& eta) {
+T interpolate_dielectric_albedo(int mu_row, double mu_fraction, const T& roughness, const T& eta) {
   const DielectricAlbedoTable& table = DielectricAlbedoTable::get();
-  double fm_value = 0.0;
-  const int m = grid_cell(mu, fm_value);
   T fr, fe;
   const int r = grid_cell(roughness, fr);
   const int e = grid_cell(T((eta - DielectricAlbedoTable::kEtaMin) /
                             (DielectricAlbedoTable::kEtaMax - DielectricAlbedoTable::kEtaMin)),
                           fe);
   T result(0.0);
-  for (int dm = 0; dm < 2; ++dm)
+  for (int dm = 0; dm < (mu_fraction > 0.0 ? 2 : 1); ++dm)
     for (int dr = 0; dr < 2; ++dr)
       for (int de = 0; de < 2; ++de) {
-        const T weight = (dm ? fm_value : 1.0 - fm_value) * (dr ? fr : T(1.0 - fr)) * (de ? fe : T(1.0 - fe));
-        result += weight * table.at(m + dm, r + dr, e + de);
+        const T weight = (dm ? mu_fraction : 1.0 - mu_fraction) * (dr ? fr : T(1.0 - fr)) * (de ? fe : T(1.0 - fe));
+        result += weight * table.at(mu_row + dm, r + dr, e + de);
       }
   return result;
+}
+
+template <class T>
+T dielectric_albedo(double mu, const T& roughness, const T& eta) {
+  double mu_fraction = 0.0;
+  const int mu_row = grid_cell(mu, mu_fraction);
+  return interpolate_dielectric_albedo(mu_row, mu_fraction, roughness, eta);
+}
+
+template <class T>
+T dielectric_albedo_average(const T& roughness, const T& eta) {
+  return interpolate_dielectric_albedo(DielectricAlbedoTable::kAverageRow, 0.0, roughness, eta);
 }
 
 struct OpenPbr {
@@ -173,7 +204,9 @@ struct OpenPbr {
     const T alpha_t = alpha * sqrt(2.0 / (1.0 + one_minus_a * one_minus_a)), alpha_b = one_minus_a * alpha_t;
     const T lobe = ggx_ndf(h, alpha_t, alpha_b) * ggx_height_correlated_g2(l, v, alpha_t, alpha_b) / (4.0 * nl * nv);
     const T dielectric_f = dielectric_fresnel(lh, eta);
-    const T dielectric_albedo_v = dielectric_albedo(nv, r, eta);
+    // Reciprocal albedo scaling of the diffuse base (Kelemen form, see the head of the file).
+    const T diffuse_through = (1.0 - dielectric_albedo(nl, r, eta)) * (1.0 - dielectric_albedo(nv, r, eta)) /
+                              (1.0 - dielectric_albedo_average(r, eta));
 
     // EON diffuse (shape terms shared by the three channels).
     const T sigma = p[kDiffuseRoughness];
@@ -193,9 +226,9 @@ struct OpenPbr {
       const T rho = p[kBaseColor + c], tint = p[kSpecularColor + c];
       const T rho_ms = rho * rho * albedo_avg / (1.0 - rho * (1.0 - albedo_avg));
       const T diffuse = rho * kInvPi * (on_a + on_b * s_over_t) + rho_ms * kInvPi * comp_shape;
-      const T glossy_diffuse = tint * dielectric_f * lobe + (1.0 - dielectric_albedo_v) * diffuse;
+      const T glossy_diffuse = tint * dielectric_f * lobe + diffuse_through * diffuse;
       const T schlick = rho + (1.0 - rho) * schlick_w, schlick_edge = rho + (1.0 - rho) * edge_schlick_w;
-      const T f82 = schlick - edge_w * (1.0 - tint) * schlick_edge;
+      const T f82 = max0(T(schlick - edge_w * (1.0 - tint) * schlick_edge));
       f[c] = (1.0 - metalness) * glossy_diffuse + metalness * f82 * lobe;
     }
     return f;

@@ -28,6 +28,7 @@
 // F_d is not Lambert's); Lambert's albedo as baseColor with specular 0 is a start only.
 #pragma once
 
+#include "brdffit/model.h"
 #include "brdffit/models/common.h"
 
 namespace brdffit::models {
