@@ -8,6 +8,7 @@
 #include "brdffit/error.h"
 #include "brdffit/fit.h"
 #include "brdffit/io.h"
+#include "brdffit/material_export.h"
 #include "brdffit/measured.h"
 #include "brdffit/result_json.h"
 #include "commands.h"
@@ -101,16 +102,26 @@ void run_fit(const FitArgs& args) {
 }
 
 struct ScoreArgs {
-  std::string data, model;
+  std::string data, model, material, name;
   std::vector<std::string> params;
   SamplingArgs sampling;
   bool json = false;
 };
 
 void run_score(const ScoreArgs& args) {
+  if (args.model.empty() && args.material.empty()) fail("score: give --model (with --param) or --material");
   const Model* model = find_model(args.model);
-  if (!model) fail("unknown model '{}' (known: {})", args.model, model_names());
-  const std::vector<double> values = parameter_values(*model, args.params);
+  std::vector<double> values;
+  if (!args.material.empty()) {
+    std::vector<std::string> warnings;
+    const Material material = material_for_scoring(args.material, args.name, args.model, warnings);
+    for (const std::string& warning : warnings) fmt::print(stderr, "warning: {}\n", warning);
+    model = find_model(material.model);
+    values = material.values;
+  } else {
+    if (!model) fail("unknown model '{}' (known: {})", args.model, model_names());
+    values = parameter_values(*model, args.params);
+  }
   const SampleSet data = load_samples(args.data, args.sampling.options());
   if (data.empty()) fail("{}: no samples left to score (check --max-angle)", args.data);
   const Metrics m = evaluate_metrics(*model, values, data);
@@ -144,7 +155,9 @@ void add_fit_commands(CLI::App& app) {
   auto score = std::make_shared<ScoreArgs>();
   CLI::App* score_cmd = app.add_subcommand("score", "Every error metric of given model parameters on a table");
   score_cmd->add_option("data", score->data, "Measured table")->required();
-  score_cmd->add_option("--model", score->model, "Model name")->required();
+  score_cmd->add_option("--model", score->model, "Model name (with --material: convert the material to it)");
+  score_cmd->add_option("--material", score->material, "Score the material of a .gltf, .mtlx or Mitsuba .xml file");
+  score_cmd->add_option("--name", score->name, "The material to score when the file holds several");
   score_cmd->add_option("--param", score->params, "NAME=VALUE (colours: one value or R,G,B); repeatable");
   score_cmd->add_flag("--json", score->json, "Print JSON");
   score->sampling.add_to(score_cmd);
