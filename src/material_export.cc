@@ -432,7 +432,7 @@ std::string materialx_document(const Material& material, const std::string& comm
   const std::string name = xml_name(material.name);
   std::string xml = "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n";
   xml += "<!-- " + xml_comment_text(comment) +
-         "\n     base_weight and specular_weight are 1: brdffit's openpbr model holds them there. -->\n";
+         "\n     base_weight, specular_weight and specular_roughness_anisotropy: as brdffit's openpbr model holds them. -->\n";
   xml += "<materialx version=\"1.39\" colorspace=\"lin_rec709\">\n";
   xml += fmt::format("  <open_pbr_surface name=\"{}_shader\" type=\"surfaceshader\">\n", name);
   xml += "    <input name=\"base_weight\" type=\"float\" value=\"1\" />\n";
@@ -447,6 +447,7 @@ std::string materialx_document(const Material& material, const std::string& comm
     offset += p.channels;
   }
   xml += "    <input name=\"specular_weight\" type=\"float\" value=\"1\" />\n";
+  xml += "    <input name=\"specular_roughness_anisotropy\" type=\"float\" value=\"0\" />\n";
   xml += "  </open_pbr_surface>\n";
   xml += fmt::format("  <surfacematerial name=\"{}\" type=\"material\">\n", name);
   xml += fmt::format("    <input name=\"surfaceshader\" type=\"surfaceshader\" nodename=\"{}_shader\" />\n", name);

@@ -251,6 +251,9 @@ std::vector<Material> read_materialx(const std::string& path, std::vector<std::s
       if (name == "base_weight") base_weight = value[0];
       else if (name == "specular_weight") specular_weight = value[0];
       else if (model.find_parameter(name)) set_parameter(model, material, name, value, path, warnings);
+      else if (name == "specular_roughness_anisotropy" && value[0] != 0.0)
+        warnings.push_back(fmt::format("{}: specular_roughness_anisotropy {} of '{}' is held at 0 by the openpbr model",
+                                       path, value[0], material.name));
       else if (value.size() == 1 && value[0] != 0.0 && name.find("weight") != std::string::npos)
         warnings.push_back(fmt::format("{}: {} = {} of '{}' is outside the opaque base brdffit's openpbr model has",
                                        path, name, value[0], material.name));

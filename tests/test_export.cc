@@ -83,8 +83,7 @@ bool have_tool(const std::string& name) { return test::run_command("command -v "
 const std::vector<std::string> kGltfSpecular = {"baseColor=0.8,0.5,0.25", "metallic=0.3",     "roughness=0.45",
                                                 "ior=1.7",                "specular=0.8",     "specularColor=1,0.9,0.7"};
 const std::vector<std::string> kOpenPbr = {"base_color=0.7,0.4,0.2",  "base_metalness=0.2", "base_diffuse_roughness=0.3",
-                                           "specular_color=1,0.8,0.6", "specular_roughness=0.35", "specular_ior=1.6",
-                                           "specular_roughness_anisotropy=0.1"};
+                                           "specular_color=1,0.8,0.6", "specular_roughness=0.35", "specular_ior=1.6"};
 const std::vector<std::string> kPrincipled = {"baseColor=0.6,0.3,0.1", "metallic=0.1",    "subsurface=0.2",
                                               "specular=0.6",          "roughness=0.4",   "specularTint=0.3",
                                               "sheen=0.25",            "clearcoat=0.5",   "clearcoatGloss=0.7"};

@@ -12,7 +12,7 @@
 //
 // In, as specified:
 //  - Microfacet lobes: GGX with α = r² (r = specular_roughness) and the anisotropy mapping
-//    αt = r²·√(2/(1 + (1-a)²)), αb = (1-a)·αt (a = specular_roughness_anisotropy, tangent = +x),
+//    αt = r²·√(2/(1 + (1-a)²)), αb = (1-a)·αt (a = specular_roughness_anisotropy, held at 0; tangent +x),
 //    height-correlated Smith G2 = 1/(1 + Λ(l) + Λ(v)): f = F·D·G2 / (4 n·l n·v).
 //  - Dielectric: exact unpolarised Fresnel of η = specular_ior, times specular_color (which tints
 //    only the reflection from above).
@@ -28,8 +28,11 @@
 //    EON paper's form, which passes it, is used.)
 //
 // Held at the specification's defaults (not fitted): base_weight = 1 (it multiplies base_color
-// everywhere, so data cannot separate the two) and specular_weight = 1 (for the dielectric it
-// only rescales F0, as specular_ior does). Out: coat, fuzz, sheen, thin film, transmission,
+// everywhere, so data cannot separate the two), specular_weight = 1 (for the dielectric it
+// only rescales F0, as specular_ior does) and specular_roughness_anisotropy = 0: a MERL table's
+// samples all have their half vector in one azimuth (φh = 0), where a stretch along the
+// tangent only trades against specular_roughness, so a fit would report an arbitrary anisotropy
+// that renders as brushed metal; the formula is kept (kAnisotropy) for a fixed value. Out: coat, fuzz, sheen, thin film, transmission,
 // subsurface, emission, geometry_opacity.
 //
 // Approximations:
@@ -42,7 +45,6 @@
 //    correction term exceeds Schlick's value between grazing and normal incidence.
 //  - Single scattering: no multiple-scattering energy compensation of the microfacet lobes (the
 //    specification recommends one without prescribing it).
-// specular_roughness_anisotropy is bounded to 0.95 (at 1 the bitangent width αb is 0).
 //
 // Nesting (exact): `lambert` with specular_ior 1 (no dielectric reflection: F = 0 and
 // E = Ē = 0), base_metalness 0 and base_diffuse_roughness 0 (EON is then ρ/π).
@@ -164,8 +166,9 @@ struct OpenPbr {
   static constexpr bool kEnergyConserving = true;
   enum : int {
     kBaseColor = 0, kMetalness = 3, kDiffuseRoughness = 4, kSpecularColor = 5, kSpecularRoughness = 8,
-    kSpecularIor = 9, kAnisotropy = 10, kNumValues = 11
+    kSpecularIor = 9, kNumValues = 10
   };
+  static constexpr double kAnisotropy = 0.0;  // specular_roughness_anisotropy, held (see above)
   static constexpr double kMuBar = 1.0 / 7.0;  // the F82-tint's edge cosine (about 82°)
 
   static std::vector<ParamSpec> parameters() {
@@ -176,8 +179,7 @@ struct OpenPbr {
              Role::SpecularColour},
             {"specular_roughness", 1, 0.01, 1.0, 0.3, "roughness r, GGX alpha = r²", Role::Roughness, false, false,
              Spacing::Log},
-            {"specular_ior", 1, 1.0, 3.0, 1.5, "index of refraction of the dielectric", Role::F0},
-            {"specular_roughness_anisotropy", 1, 0.0, 0.95, 0.0, "stretch of the GGX lobe along the tangent (+x)"}};
+            {"specular_ior", 1, 1.0, 3.0, 1.5, "index of refraction of the dielectric", Role::F0}};
   }
 
   // Ê(μ) of the Fujii Oren-Nayar term (EON paper), for μ > 0.
@@ -198,10 +200,10 @@ struct OpenPbr {
     const Vec3 h = half_vector(l, v);
     const double lh = l.dot(h);
 
-    const T r = p[kSpecularRoughness], anisotropy = p[kAnisotropy], eta = p[kSpecularIor];
+    const T r = p[kSpecularRoughness], eta = p[kSpecularIor];
     const T alpha = r * r;
-    const T one_minus_a = 1.0 - anisotropy;
-    const T alpha_t = alpha * sqrt(2.0 / (1.0 + one_minus_a * one_minus_a)), alpha_b = one_minus_a * alpha_t;
+    const double one_minus_a = 1.0 - kAnisotropy;
+    const T alpha_t = alpha * std::sqrt(2.0 / (1.0 + one_minus_a * one_minus_a)), alpha_b = one_minus_a * alpha_t;
     const T lobe = ggx_ndf(h, alpha_t, alpha_b) * ggx_height_correlated_g2(l, v, alpha_t, alpha_b) / (4.0 * nl * nv);
     const T dielectric_f = dielectric_fresnel(lh, eta);
     // Reciprocal albedo scaling of the diffuse base (Kelemen form, see the head of the file).
