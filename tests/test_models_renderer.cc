@@ -73,6 +73,15 @@ TEST(Gltf, HandValues) {
   EXPECT_EQ(shade("gltf", {}, dir(1, 0, -1), kNormal)[0], 0.0);
 }
 
+TEST(Gltf, NotEnergyConservingAsTheSpecificationSays) {
+  // Appendix B: the (1 - F(v·h)) diffuse weight breaks energy conservation. Seen at 85°, a white
+  // dielectric keeps almost all its diffuse light (v·h is far from grazing for most lights)
+  // while its specular albedo approaches Fresnel's grazing value: more than 1 in total.
+  const double c = std::cos(85 * kPi / 180);
+  EXPECT_GT(albedo("gltf", {"baseColor=1", "metallic=0", "roughness=0.3"}, Vec3(std::sqrt(1 - c * c), 0, c)), 1.05);
+  EXPECT_FALSE(find_model("gltf")->energy_conserving());
+}
+
 TEST(Gltf, EqualsGgxUpToShadowingAndDiffuse) {
   // Same GGX D and α = roughness², same Schlick F: a metal (glTF metallic 1, baseColor = f0)
   // equals ggx (albedo 0, f0) times G_heightcorrelated / G_schlick-smith, and a dielectric's

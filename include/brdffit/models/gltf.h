@@ -76,7 +76,9 @@ struct Gltf {
   static constexpr const char* kName = "gltf";
   static constexpr const char* kSummary =
       "glTF 2.0 metallic-roughness (spec Appendix B): GGX α = roughness², height-correlated Smith, F0 0.04 / baseColor";
-  static constexpr bool kEnergyConserving = true;
+  // Appendix B ("Coupling Diffuse and Specular Reflection"): weighting the diffuse term by
+  // 1 - F(v·h) breaks energy conservation; at grazing views the albedo exceeds 1.
+  static constexpr bool kEnergyConserving = false;
   enum : int { kBaseColor = 0, kMetallic = 3, kRoughness = 4, kNumValues = 5 };
 
   static std::vector<ParamSpec> parameters() {

@@ -23,7 +23,9 @@ struct GltfSpecular {
   static constexpr const char* kName = "gltf-specular";
   static constexpr const char* kSummary =
       "glTF 2.0 metallic-roughness with KHR_materials_ior and KHR_materials_specular (ior, specular, specularColor)";
-  static constexpr bool kEnergyConserving = true;
+  // Appendix B ("Coupling Diffuse and Specular Reflection"): weighting the diffuse term by
+  // 1 - F(v·h) breaks energy conservation; at grazing views the albedo exceeds 1.
+  static constexpr bool kEnergyConserving = false;
   enum : int { kBaseColor = 0, kMetallic = 3, kRoughness = 4, kIor = 5, kSpecular = 6, kSpecularColor = 7, kNumValues = 10 };
 
   static std::vector<ParamSpec> parameters() {
