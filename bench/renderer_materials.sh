@@ -26,16 +26,16 @@ done
 for bsdf in "$here"/../shared/data/rgl/*.bsdf; do [[ -e $bsdf ]] && tables+=("$bsdf"); done
 ((${#tables[@]})) || { echo "no shared tables under $here/../shared/data" >&2; exit 1; }
 
-echo "| material | model | cosine | log | seconds |"
-echo "| --- | --- | ---: | ---: | ---: |"
+echo "| material | model | verdict | cosine | log | seconds |"
+echo "| --- | --- | --- | ---: | ---: | ---: |"
 for table in "${tables[@]}"; do
   name=$(basename "$table"); name=${name%.*}
   csv=$work/fits/$name.csv
   [[ -s $csv ]] || "$brdffit" fit "$table" --models "$models" --out "$work/fits/$name.json" --csv "$csv" > /dev/null
-  # model,status,cosine,log,relative,l2,max,iterations,seconds,parameters
-  tail -n +2 "$csv" | sort -t, -k1,1 | while IFS=, read -r model status cosine log _ _ _ _ seconds _; do
-    printf "| %s | %s | %.4f | %.4f | %.1f |\n" "$name" "$model" "$cosine" "$log" "$seconds"
-  done
+  # Columns by their header names (fit --csv: model, status, verdict, cosine, log, ..., seconds, parameters).
+  awk -F, -v name="$name" 'NR == 1 { for (i = 1; i <= NF; ++i) col[$i] = i; next }
+    { printf "| %s | %s | %s | %.4f | %.4f | %.1f |\n", name, $col["model"], $col["verdict"], $col["cosine"], $col["log"], $col["seconds"] }' \
+    "$csv" | sort -t'|' -k3,3
 done
 
 [[ -n $published ]] || exit 0
@@ -48,7 +48,10 @@ for table in "${tables[@]}"; do
   [[ $table == *.binary ]] || continue
   name=$(basename "$table" .binary)
   theirs=$("$brdffit" score "$table" --material "$work/gltfit.gltf" --name "$name" --model gltf --json 2> /dev/null)
-  ours=$(grep '^gltf,' "$work/fits/$name.csv")
-  python3 -c 'import json,sys; t=json.loads(sys.argv[1])["metrics"]; o=sys.argv[2].split(","); print(f"| {sys.argv[3]} | {t[\"cosine\"]:.4f} | {float(o[2]):.4f} | {t[\"log\"]:.4f} | {float(o[3]):.4f} |")' \
-    "$theirs" "$ours" "$name"
+  python3 - "$theirs" "$work/fits/$name.csv" "$name" <<'PY'
+import csv, json, sys
+theirs = json.loads(sys.argv[1])["metrics"]
+ours = next(row for row in csv.DictReader(open(sys.argv[2])) if row["model"] == "gltf")
+print(f"| {sys.argv[3]} | {theirs['cosine']:.4f} | {float(ours['cosine']):.4f} | {theirs['log']:.4f} | {float(ours['log']):.4f} |")
+PY
 done
