@@ -1,6 +1,6 @@
 // `brdffit batch`: fit many tables; `compare`: rank models over result documents; `render`: a
 // sphere of a table or a fitted model; `report`: one HTML page about fitted materials;
-// `export`: a ggx fit as a glTF or Mitsuba 3 material.
+// `export`: a fit as a glTF 2.0, OpenPBR (MaterialX) or Mitsuba 3 material.
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -366,28 +366,37 @@ void run_report(const ReportArgs& args) {
 }
 
 struct ExportArgs {
-  std::string result, model = "ggx", format, out;
+  std::string result, model, format, out;
+  bool force = false;
 };
 
 void run_export(const ExportArgs& args) {
-  if (args.model != "ggx")
-    fail("--model {}: export maps the ggx fit only (glTF and Mitsuba 3 use GGX with α = roughness²)", args.model);
-  std::string format = args.format;
-  if (format.empty()) {
-    const std::string extension = fs::path(args.out).extension().string();
-    if (extension == ".gltf") format = "gltf";
-    if (extension == ".xml") format = "mitsuba";
-    if (format.empty()) fail("--format: gltf or mitsuba (not implied by the name {})", args.out);
-  }
-  if (format != "gltf" && format != "mitsuba") fail("--format: gltf or mitsuba, not '{}'", format);
+  ExportRequest request;
+  request.format = material_format(args.format, args.out);
+  request.model = args.model;
+  request.force = args.force;
   check_outputs({args.result}, {args.out});
-  const FitDocument document = read_fit_document(args.result);
-  const MetallicRoughness mr = metallic_roughness_of(document);
-  write_file_atomic(args.out, format == "gltf" ? gltf_material(document) : mitsuba_bsdf(document));
-  fmt::print("wrote {}: base colour {:.4f} {:.4f} {:.4f}, metallic {:.4f}, roughness {:.4f}\n", args.out,
-             mr.base_color[0], mr.base_color[1], mr.base_color[2], mr.metallic, mr.roughness);
-  fmt::print("  implied at normal incidence: albedo {:.4f} {:.4f} {:.4f}, f0 {:.4f} {:.4f} {:.4f}\n", mr.albedo[0],
-             mr.albedo[1], mr.albedo[2], mr.f0[0], mr.f0[1], mr.f0[2]);
+  const MaterialExport exported = export_material(read_fit_document(args.result), request);
+  for (const std::string& warning : exported.warnings) fmt::print(stderr, "warning: {}\n", warning);
+  write_file_atomic(args.out, exported.text);
+  const Model& model = *find_model(exported.material.model);
+  std::string values;
+  size_t offset = 0;
+  for (const ParamSpec& p : model.parameters()) {
+    const std::vector<double> value(exported.material.values.begin() + offset,
+                                    exported.material.values.begin() + offset + p.channels);
+    values += " " + p.name + "=" + format_values(value, "{:.4g}");
+    offset += p.channels;
+  }
+  fmt::print("wrote {}: the {} material{}\n", args.out, model.name(), values);
+  if (!exported.converted) {
+    fmt::print("  the {} fit unchanged ({} error {:.4g})\n", exported.source_model, exported.metric, exported.fit_error);
+    return;
+  }
+  fmt::print("  converted from the {} fit ({} error {:.4g}); on the original data, all samples: converted {:.4g}, "
+             "the {} fit {:.4g}\n",
+             exported.source_model, exported.metric, exported.fit_error, exported.converted_error,
+             exported.source_model, exported.source_error_on_data);
 }
 
 }  // namespace
@@ -440,11 +449,15 @@ void add_batch_commands(CLI::App& app) {
   report_cmd->callback([report] { run_report(*report); });
 
   auto export_args = std::make_shared<ExportArgs>();
-  CLI::App* export_cmd = app.add_subcommand("export", "Write a ggx fit as a glTF 2.0 material or a Mitsuba 3 BSDF");
+  CLI::App* export_cmd = app.add_subcommand(
+      "export", "Write a fit as the renderer's material: glTF 2.0, OpenPBR (MaterialX) or Mitsuba 3 principled");
   export_cmd->add_option("result", export_args->result, "Result document (from fit or batch)")->required();
-  export_cmd->add_option("--model", export_args->model, "The fit to export (ggx)")->capture_default_str();
-  export_cmd->add_option("--format", export_args->format, "gltf or mitsuba (default: from --out's extension)");
-  export_cmd->add_option("--out", export_args->out, "File to write (.gltf, .xml)")->required();
+  export_cmd->add_option("--model", export_args->model,
+                         "The fit to export (default: the format's own: gltf or gltf-specular, openpbr, principled; "
+                         "another fit is converted and its error reported)");
+  export_cmd->add_option("--format", export_args->format, "gltf, openpbr or mitsuba (default: from --out's extension)");
+  export_cmd->add_option("--out", export_args->out, "File to write (.gltf, .mtlx, .xml)")->required();
+  export_cmd->add_flag("--force", export_args->force, "Export a fit whose verdict is poor or failed (with a warning)");
   export_cmd->callback([export_args] { run_export(*export_args); });
 }
 

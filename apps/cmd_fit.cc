@@ -9,6 +9,7 @@
 #include "brdffit/error.h"
 #include "brdffit/fit.h"
 #include "brdffit/io.h"
+#include "brdffit/material_export.h"
 #include "brdffit/measured.h"
 #include "brdffit/published_fits.h"
 #include "brdffit/result_json.h"
@@ -93,7 +94,7 @@ void run_fit(const FitArgs& args) {
 }
 
 struct ScoreArgs {
-  std::string data, model, published, material;
+  std::string data, model, published, material, name;
   std::vector<std::string> params;
   SamplingArgs sampling;
   bool json = false;
@@ -110,8 +111,8 @@ std::string metrics_line(const Metrics& m) {
 
 // --published: every model the material's published fit maps onto, scored on the table.
 void run_score_published(const ScoreArgs& args, const SampleSet& data) {
-  const std::string material =
-      args.material.empty() ? std::filesystem::path(args.data).stem().string() : args.material;
+  const std::string line = !args.name.empty() ? args.name : args.material;
+  const std::string material = line.empty() ? std::filesystem::path(args.data).stem().string() : line;
   const std::vector<PublishedFit> fits = find_published_fits(args.published, material);
   nlohmann::json out = nlohmann::json::array();
   for (const PublishedFit& fit : fits) {
@@ -128,11 +129,28 @@ void run_score_published(const ScoreArgs& args, const SampleSet& data) {
 }
 
 void run_score(const ScoreArgs& args) {
-  if (args.model.empty() == args.published.empty()) fail("score: give either --model or --published");
-  if (!args.material.empty() && args.published.empty()) fail("score: --material needs --published");
-  const Model* model = args.model.empty() ? nullptr : find_model(args.model);
-  if (!args.model.empty() && !model) fail("unknown model '{}' (known: {})", args.model, model_names());
-  const std::vector<double> values = model ? parameter_values(*model, args.params) : std::vector<double>{};
+  // --published F.fit names its line with --name (or --material, issue 12's spelling);
+  // otherwise --material is an asset file (.gltf, .mtlx, Mitsuba .xml) and --name its material.
+  if (!args.published.empty()) {
+    if (!args.model.empty()) fail("score: give --model or --published, not both");
+    if (!args.material.empty() && !args.name.empty()) fail("score: with --published, give the line's name once");
+  } else if (args.model.empty() && args.material.empty()) {
+    fail("score: give --model (with --param), --material FILE or --published FILE.fit");
+  }
+  const Model* model = args.published.empty() ? find_model(args.model) : nullptr;
+  std::vector<double> values;
+  if (!args.published.empty()) {
+    // scored below, model by model
+  } else if (!args.material.empty()) {
+    std::vector<std::string> warnings;
+    const Material material = material_for_scoring(args.material, args.name, args.model, warnings);
+    for (const std::string& warning : warnings) fmt::print(stderr, "warning: {}\n", warning);
+    model = find_model(material.model);
+    values = material.values;
+  } else {
+    if (!model) fail("unknown model '{}' (known: {})", args.model, model_names());
+    values = parameter_values(*model, args.params);
+  }
   const SampleSet data = load_samples(args.data, args.sampling.options());
   if (data.empty()) fail("{}: no samples left to score (check --max-angle)", args.data);
   if (!model) return run_score_published(args, data);
@@ -164,11 +182,14 @@ void add_fit_commands(CLI::App& app) {
   auto score = std::make_shared<ScoreArgs>();
   CLI::App* score_cmd = app.add_subcommand("score", "Every error metric of given model parameters on a table");
   score_cmd->add_option("data", score->data, "Measured table")->required();
-  score_cmd->add_option("--model", score->model, "Model name (or --published)");
+  score_cmd->add_option("--model", score->model,
+                        "Model name (with --material: convert the material to it; or --published)");
   score_cmd->add_option("--published", score->published,
                         "A BBM .fit file of published parameters: scores the material's line for every model it maps onto");
   score_cmd->add_option("--material", score->material,
-                        "The line of --published to score (default: the table's file name without extension)");
+                        "Score the material of a .gltf, .mtlx or Mitsuba .xml file (with --published: the line to score)");
+  score_cmd->add_option("--name", score->name,
+                        "The material to score when the file holds several (--published: default the table's file name)");
   score_cmd->add_option("--param", score->params, "NAME=VALUE (colours: one value or R,G,B); repeatable");
   score_cmd->add_flag("--json", score->json, "Print JSON");
   score->sampling.add_to(score_cmd);

@@ -7,7 +7,12 @@ packages=(
   libceres-dev libeigen3-dev libopenimageio-dev libopencv-dev
   libcli11-dev nlohmann-json3-dev libfmt-dev libgtest-dev libssl-dev
   openimageio-tools  # OpenImageIO's CMake package refers to its tools (iconvert, ...)
+  libxml2-utils      # xmllint checks exported MaterialX and Mitsuba files in the tests
 )
+# node and npm run the Khronos glTF-Validator (below), which checks exported glTF files in the
+# tests. Debian's packages unless both commands are there already (another node distribution,
+# such as NodeSource's, bundles npm and conflicts with Debian's npm package).
+if ! command -v node > /dev/null || ! command -v npm > /dev/null; then packages+=(nodejs npm); fi
 [[ "${BRDFFIT_WITH_CHROMIUM:-0}" == 1 ]] && packages+=(chromium)
 missing=()
 for p in "${packages[@]}"; do
@@ -19,4 +24,12 @@ if ((${#missing[@]})); then
   [[ $(id -u) -ne 0 ]] && sudo_cmd=(sudo)
   "${sudo_cmd[@]}" apt-get update -qq
   DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+
+# The Khronos glTF-Validator (npm), pinned, into .deps/npm of this checkout (tests/tools/validate_gltf.js).
+gltf_validator="gltf-validator@2.0.0-dev.3.10"
+npm_prefix="$(cd "$(dirname "$0")/.." && pwd)/.deps/npm"
+if [[ ! -f "$npm_prefix/node_modules/gltf-validator/package.json" ]]; then
+  echo "install-deps: installing $gltf_validator (npm) into $npm_prefix"
+  npm install --prefix "$npm_prefix" --no-audit --no-fund --loglevel=error "$gltf_validator"
 fi

@@ -1,23 +1,26 @@
-// ggx fits as glTF and Mitsuba materials (see material_export.h for the mapping).
+// Renderer materials from fits: choosing the fit, converting through the metallic-roughness
+// core, and writing glTF, MaterialX (OpenPBR) and Mitsuba 3 files (see material_export.h).
 #include "brdffit/material_export.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "brdffit/error.h"
+#include "brdffit/fit.h"
 #include "brdffit/io.h"
+#include "brdffit/measured.h"
 #include "brdffit/model.h"
-#include "brdffit/render.h"
 
 namespace brdffit {
 
 namespace {
 
-constexpr double kDielectricF0 = 0.04;                   // glTF's (IOR 1.5), and Mitsuba's at specular = 0.5
+constexpr double kDielectricF0 = 0.04;                   // glTF's (IOR 1.5)
 constexpr double kDiffuseThrough = 1.0 - kDielectricF0;  // the light the dielectric coat lets through
 
 // The metallic value that matches a single (luminance) albedo a and f0 f; see the header.
@@ -25,11 +28,96 @@ double solve_metallic(double a, double f) {
   const double qa = kDielectricF0 * kDiffuseThrough, qb = -(a + kDiffuseThrough * f), qc = a;
   const double discriminant = qb * qb - 4.0 * qa * qc;
   if (discriminant < 0.0) return 0.0;  // f0 darker than any dielectric's: the closest is m = 0
-  // Both roots match; the larger one when it is a valid 1 - m, i.e. the least metallic material.
-  // (The other root is then at most 1 only for very dark colours.)
   const double smaller = (-qb - std::sqrt(discriminant)) / (2.0 * qa), larger = (-qb + std::sqrt(discriminant)) / (2.0 * qa);
   const double t = larger <= 1.0 + 1e-12 ? larger : smaller;
   return std::clamp(1.0 - t, 0.0, 1.0);
+}
+
+// The metallic-roughness core every renderer material shares.
+struct Core {
+  Rgb<double> base_color = Rgb<double>::Constant(0.5);
+  double metallic = 0.0, roughness = 0.5, ior = 1.5;
+};
+
+double ior_from_f0(double f0) {
+  const double r = std::sqrt(std::clamp(f0, 0.0, 0.99));
+  return (1.0 + r) / (1.0 - r);
+}
+double f0_from_ior(double ior) { return std::pow((ior - 1.0) / (ior + 1.0), 2); }
+
+Rgb<double> colour_at(const Model& model, const std::vector<double>& values, const char* name) {
+  const int offset = model.offset_of(name);
+  return Rgb<double>(values[offset], values[offset + 1], values[offset + 2]);
+}
+double value_at(const Model& model, const std::vector<double>& values, const char* name) {
+  return values[model.offset_of(name)];
+}
+void set_colour(const Model& model, std::vector<double>& values, const char* name, const Rgb<double>& colour) {
+  const int offset = model.offset_of(name);
+  for (int c = 0; c < 3; ++c) values[offset + c] = colour[c];
+}
+void set_value(const Model& model, std::vector<double>& values, const char* name, double value) {
+  values[model.offset_of(name)] = value;
+}
+
+Core core_of(const std::string& model_name, const std::vector<double>& values) {
+  const Model& model = *find_model(model_name);
+  Core core;
+  if (model_name == "ggx") {
+    const MetallicRoughness mr = metallic_roughness(colour_at(model, values, "albedo"), colour_at(model, values, "f0"),
+                                                    value_at(model, values, "roughness"));
+    core.base_color = mr.base_color;
+    core.metallic = mr.metallic;
+    core.roughness = mr.roughness;
+  } else if (model_name == "gltf" || model_name == "gltf-specular") {
+    core.base_color = colour_at(model, values, "baseColor");
+    core.metallic = value_at(model, values, "metallic");
+    core.roughness = value_at(model, values, "roughness");
+    if (model_name == "gltf-specular") core.ior = value_at(model, values, "ior");
+  } else if (model_name == "openpbr") {
+    core.base_color = colour_at(model, values, "base_color");
+    core.metallic = value_at(model, values, "base_metalness");
+    core.roughness = value_at(model, values, "specular_roughness");
+    core.ior = value_at(model, values, "specular_ior");
+  } else if (model_name == "principled") {
+    core.base_color = colour_at(model, values, "baseColor");
+    core.metallic = value_at(model, values, "metallic");
+    core.roughness = value_at(model, values, "roughness");
+    core.ior = ior_from_f0(0.08 * value_at(model, values, "specular"));
+  } else {
+    fail("no conversion from the {} model: export converts ggx, gltf, gltf-specular, openpbr and principled fits",
+         model_name);
+  }
+  return core;
+}
+
+std::vector<double> values_from_core(const Model& model, const Core& core) {
+  std::vector<double> values = model.default_values();
+  const std::string& name = model.name();
+  const auto clamp_to = [&](const char* param, double value) {
+    const ParamSpec& p = *model.find_parameter(param);
+    return std::clamp(value, p.lower, p.upper);
+  };
+  const Rgb<double> base = core.base_color.cwiseMax(0.0).cwiseMin(1.0);
+  if (name == "gltf" || name == "gltf-specular") {
+    set_colour(model, values, "baseColor", base);
+    set_value(model, values, "metallic", clamp_to("metallic", core.metallic));
+    set_value(model, values, "roughness", clamp_to("roughness", core.roughness));
+    if (name == "gltf-specular") set_value(model, values, "ior", clamp_to("ior", core.ior));
+  } else if (name == "openpbr") {
+    set_colour(model, values, "base_color", base);
+    set_value(model, values, "base_metalness", clamp_to("base_metalness", core.metallic));
+    set_value(model, values, "specular_roughness", clamp_to("specular_roughness", core.roughness));
+    set_value(model, values, "specular_ior", clamp_to("specular_ior", core.ior));
+  } else if (name == "principled") {
+    set_colour(model, values, "baseColor", base);
+    set_value(model, values, "metallic", clamp_to("metallic", core.metallic));
+    set_value(model, values, "roughness", clamp_to("roughness", core.roughness));
+    set_value(model, values, "specular", clamp_to("specular", f0_from_ior(core.ior) / 0.08));
+  } else {
+    fail("{} is not a renderer material (gltf, gltf-specular, openpbr, principled)", name);
+  }
+  return values;
 }
 
 std::string material_name(const FitDocument& document) {
@@ -38,28 +126,123 @@ std::string material_name(const FitDocument& document) {
   return std::filesystem::path(document.input_path).stem().string();
 }
 
-const FitResult& ggx_result(const FitDocument& document) {
-  for (const FitResult& fit : document.results) {
-    if (fit.model != "ggx") continue;
-    if (!fit.ok) fail("{}: the ggx fit failed ({}): nothing to export", document.path, fit.error);
-    return fit;
+// A fit's values for export: a per-channel fit's shape parameters are the mean of its channels'.
+std::vector<double> export_values(const Model& model, const FitResult& fit, std::vector<std::string>& warnings) {
+  if (static_cast<int>(fit.values.size()) != model.num_values())
+    fail("the {} result has {} values, the model has {}", fit.model, fit.values.size(), model.num_values());
+  std::vector<double> values = fit.values;
+  if (fit.channel_values.size() == 3) {
+    int offset = 0;
+    for (const ParamSpec& p : model.parameters()) {
+      if (p.channels == 1)
+        values[offset] = (fit.channel_values[0][offset] + fit.channel_values[1][offset] + fit.channel_values[2][offset]) / 3;
+      offset += p.channels;
+    }
+    warnings.push_back("a per-channel fit: its shape parameters are written as the mean of the three channels'");
   }
-  fail("{}: has no ggx fit; export maps the ggx model (fit with --models including ggx)", document.path);
+  return values;
 }
 
-// Text that can stand inside an XML comment or attribute: escaped, and no "--" (which ends a comment).
+const FitResult* find_fit(const FitDocument& document, const std::string& model) {
+  for (const FitResult& fit : document.results)
+    if (fit.model == model) return &fit;
+  return nullptr;
+}
+
+// Characters that can stand in XML 1.0 text: escaped markup, and every byte that is not part of
+// valid UTF-8 or is a control character other than tab and newline written as "\xNN".
 std::string xml_text(const std::string& text) {
   std::string out;
-  for (char c : escape_markup(text)) out += c == '-' && !out.empty() && out.back() == '-' ? " -" : std::string(1, c);
+  const auto hex = [&](unsigned char c) { out += fmt::format("\\x{:02X}", c); };
+  for (size_t i = 0; i < text.size();) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    if (c < 0x80) {
+      if (c < 0x20 && c != '\t' && c != '\n') hex(c);
+      else if (c == 0x7F) hex(c);
+      else out += escape_markup(std::string(1, static_cast<char>(c)));
+      ++i;
+      continue;
+    }
+    const int length = c >= 0xF0 && c < 0xF5 ? 4 : c >= 0xE0 ? 3 : c >= 0xC2 && c < 0xE0 ? 2 : 0;
+    bool valid = length > 0 && i + length <= text.size();
+    for (int k = 1; valid && k < length; ++k) valid = (static_cast<unsigned char>(text[i + k]) & 0xC0) == 0x80;
+    if (valid) {
+      out.append(text, i, length);
+      i += length;
+    } else {
+      hex(c);
+      ++i;
+    }
+  }
   return out;
 }
 
-std::string xml_id(const std::string& name) {
-  std::string id = name;
-  for (char& c : id)
-    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_' && c != '.') c = '_';
+// Text inside an XML comment: as xml_text, and no "--" (which would end it).
+std::string xml_comment_text(const std::string& text) {
+  std::string out;
+  for (char c : xml_text(text)) out += c == '-' && !out.empty() && out.back() == '-' ? " -" : std::string(1, c);
+  return out;
+}
+
+// A name for an XML id or a MaterialX element: letters, digits and '_' only, not starting with a digit.
+std::string xml_name(const std::string& name) {
+  std::string id;
+  for (char c : name) id += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
   return id.empty() || std::isdigit(static_cast<unsigned char>(id[0])) ? "m_" + id : id;
 }
+
+std::string base64(const std::vector<uint8_t>& bytes) {
+  static const char* kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  for (size_t i = 0; i < bytes.size(); i += 3) {
+    const uint32_t n = (uint32_t(bytes[i]) << 16) | (i + 1 < bytes.size() ? uint32_t(bytes[i + 1]) << 8 : 0) |
+                       (i + 2 < bytes.size() ? uint32_t(bytes[i + 2]) : 0);
+    out += kAlphabet[(n >> 18) & 63];
+    out += kAlphabet[(n >> 12) & 63];
+    out += i + 1 < bytes.size() ? kAlphabet[(n >> 6) & 63] : '=';
+    out += i + 2 < bytes.size() ? kAlphabet[n & 63] : '=';
+  }
+  return out;
+}
+
+template <class T>
+void append_bytes(std::vector<uint8_t>& bytes, const T& value) {
+  const auto* p = reinterpret_cast<const uint8_t*>(&value);
+  bytes.insert(bytes.end(), p, p + sizeof(T));
+}
+
+// A unit UV sphere: positions (= normals), and triangles with a fan at each pole (no degenerate
+// triangle), counter-clockwise seen from outside as glTF requires.
+struct SphereMesh {
+  std::vector<float> positions;  // x, y, z per vertex
+  std::vector<uint16_t> indices;
+};
+
+SphereMesh sphere_mesh(int rings = 16, int segments = 32) {
+  SphereMesh mesh;
+  const auto add = [&](double theta, double phi) {
+    mesh.positions.push_back(static_cast<float>(std::sin(theta) * std::cos(phi)));
+    mesh.positions.push_back(static_cast<float>(std::cos(theta)));
+    mesh.positions.push_back(static_cast<float>(-std::sin(theta) * std::sin(phi)));
+  };
+  add(0.0, 0.0);  // north pole (+y), vertex 0
+  for (int r = 1; r < rings; ++r)
+    for (int s = 0; s < segments; ++s) add(kPi * r / rings, 2 * kPi * s / segments);
+  add(kPi, 0.0);  // south pole
+  const auto ring_vertex = [&](int r, int s) { return static_cast<uint16_t>(1 + (r - 1) * segments + s % segments); };
+  const uint16_t south = static_cast<uint16_t>(mesh.positions.size() / 3 - 1);
+  for (int s = 0; s < segments; ++s) {
+    mesh.indices.insert(mesh.indices.end(), {0, ring_vertex(1, s), ring_vertex(1, s + 1)});
+    for (int r = 1; r + 1 < rings; ++r) {
+      const uint16_t a = ring_vertex(r, s), b = ring_vertex(r + 1, s), c = ring_vertex(r + 1, s + 1), d = ring_vertex(r, s + 1);
+      mesh.indices.insert(mesh.indices.end(), {a, b, c, a, c, d});
+    }
+    mesh.indices.insert(mesh.indices.end(), {south, ring_vertex(rings - 1, s + 1), ring_vertex(rings - 1, s)});
+  }
+  return mesh;
+}
+
+nlohmann::json number_array(const Rgb<double>& c) { return {c[0], c[1], c[2]}; }
 
 }  // namespace
 
@@ -77,68 +260,223 @@ MetallicRoughness metallic_roughness(const Rgb<double>& albedo, const Rgb<double
   return out;
 }
 
-MetallicRoughness metallic_roughness_of(const FitDocument& document) {
-  const FitResult& fit = ggx_result(document);
-  const Model& ggx = *find_model("ggx");
-  const int albedo = ggx.offset_of("albedo"), f0 = ggx.offset_of("f0"), roughness = ggx.offset_of("roughness");
-  if (static_cast<int>(fit.values.size()) != ggx.num_values())
-    fail("{}: the ggx result has {} values, the model has {}", document.path, fit.values.size(), ggx.num_values());
-  // Colours are per channel in `values` even for per-channel fits; the roughness is then the mean.
-  double r = fit.values[roughness];
-  if (fit.channel_values.size() == 3)
-    r = (fit.channel_values[0][roughness] + fit.channel_values[1][roughness] + fit.channel_values[2][roughness]) / 3.0;
-  const Rgb<double> a(fit.values[albedo], fit.values[albedo + 1], fit.values[albedo + 2]);
-  const Rgb<double> f(fit.values[f0], fit.values[f0 + 1], fit.values[f0 + 2]);
-  return metallic_roughness(a, f, r);
+const char* material_format_name(MaterialFormat format) {
+  switch (format) {
+    case MaterialFormat::Gltf: return "gltf";
+    case MaterialFormat::OpenPbr: return "openpbr";
+    case MaterialFormat::Mitsuba: return "mitsuba";
+  }
+  return "?";
 }
 
-std::string gltf_material(const FitDocument& document) {
-  const FitResult& fit = ggx_result(document);
-  const MetallicRoughness mr = metallic_roughness_of(document);
-  const Model& ggx = *find_model("ggx");
-  const auto fitted = [&](const char* name) {
-    const int offset = ggx.offset_of(name);
-    return Rgb<double>(fit.values[offset], fit.values[offset + 1], fit.values[offset + 2]);
-  };
-  const nlohmann::json material = {
-      {"name", material_name(document)},
-      {"pbrMetallicRoughness",
-       {{"baseColorFactor", {mr.base_color[0], mr.base_color[1], mr.base_color[2], 1.0}},
-        {"metallicFactor", mr.metallic},
-        {"roughnessFactor", mr.roughness}}},
-      {"extras",
-       {{"brdffit",
-         {{"result", document.path},
-          {"input", document.input_path},
-          {"model", "ggx"},
-          {"fitted", {{"albedo", json_array(fitted("albedo"))}, {"f0", json_array(fitted("f0"))}, {"roughness", mr.roughness}}},
-          {"implied_at_normal_incidence", {{"albedo", json_array(mr.albedo)}, {"f0", json_array(mr.f0)}}},
-          {"metrics", fit_result_json(fit)["metrics"]}}}}}};
-  const nlohmann::json gltf = {{"asset", {{"version", "2.0"}, {"generator", "brdffit " BRDFFIT_VERSION}}},
-                               {"materials", {material}}};
-  return gltf.dump(2) + "\n";
+MaterialFormat material_format(const std::string& name, const std::string& path) {
+  for (MaterialFormat f : {MaterialFormat::Gltf, MaterialFormat::OpenPbr, MaterialFormat::Mitsuba})
+    if (name == material_format_name(f)) return f;
+  if (!name.empty()) fail("--format: gltf, openpbr or mitsuba, not '{}'", name);
+  const std::string extension = std::filesystem::path(path).extension().string();
+  if (extension == ".gltf") return MaterialFormat::Gltf;
+  if (extension == ".mtlx") return MaterialFormat::OpenPbr;
+  if (extension == ".xml") return MaterialFormat::Mitsuba;
+  fail("--format: gltf, openpbr or mitsuba (not implied by the name {}: .gltf, .mtlx or .xml)", path);
 }
 
-std::string mitsuba_bsdf(const FitDocument& document) {
-  const FitResult& fit = ggx_result(document);
-  const MetallicRoughness mr = metallic_roughness_of(document);
-  const std::string name = material_name(document);
+std::vector<std::string> native_models(MaterialFormat format) {
+  switch (format) {
+    case MaterialFormat::Gltf: return {"gltf", "gltf-specular"};
+    case MaterialFormat::OpenPbr: return {"openpbr"};
+    case MaterialFormat::Mitsuba: return {"principled"};
+  }
+  return {};
+}
+
+Material convert_material(const std::string& source_model, const std::vector<double>& values, const std::string& model) {
+  const Model* target = find_model(model);
+  if (!target) fail("unknown model '{}'", model);
+  return {"", model, values_from_core(*target, core_of(source_model, values))};
+}
+
+MaterialExport export_material(const FitDocument& document, const ExportRequest& request) {
+  const std::vector<std::string> natives = native_models(request.format);
+  const FitResult* fit = nullptr;
+  if (request.model.empty()) {
+    for (const std::string& model : natives)
+      if (!fit) fit = find_fit(document, model);
+    if (!fit)
+      fail("{}: has no {} fit; fit with --models {} to export it unchanged, or convert another fit with --model "
+           "(ggx, gltf, gltf-specular, openpbr, principled)",
+           document.path, natives.front(), natives.front());
+  } else {
+    fit = find_fit(document, request.model);
+    if (!fit) fail("{}: has no {} fit", document.path, request.model);
+  }
+  MaterialExport out;
+  out.source_model = fit->model;
+  if (!fit->ok) fail("{}: the {} fit failed ({}): nothing to export", document.path, fit->model, fit->error);
+  if (fit->verdict != Verdict::Good) {
+    const std::string why = fit->warnings.empty() ? "" : " (" + fit->warnings.front() + ")";
+    if (!request.force)
+      fail("{}: the {} fit's verdict is {}{}; it does not describe the measurement. Export it anyway with --force",
+           document.path, fit->model, verdict_name(fit->verdict), why);
+    out.warnings.push_back(fmt::format("the {} fit's verdict is {}{}: exported because of --force", fit->model,
+                                       verdict_name(fit->verdict), why));
+  }
+  const Model& source = *find_model(fit->model);
+  const std::vector<double> values = export_values(source, *fit, out.warnings);
+  const std::string metric_name = document.json.value("metric", "cosine");
+  const Metric metric = parse_metric(metric_name).value_or(Metric::Cosine);
+  out.metric = metric_name;
+  out.fit_error = fit->metrics.get(metric);
+
+  out.converted = std::find(natives.begin(), natives.end(), fit->model) == natives.end();
+  out.material = out.converted ? convert_material(fit->model, values, natives.front()) : Material{"", fit->model, values};
+  out.material.name = material_name(document);
+  if (out.converted) {
+    try {
+      const SampleSet data = load_samples(document.input_path, SamplingOptions{});
+      out.converted_error = evaluate_metrics(*find_model(out.material.model), out.material.values, data).get(metric);
+      out.source_error_on_data = evaluate_metrics(source, fit->values, data, fit->channel_values).get(metric);
+    } catch (const Error& e) {
+      out.warnings.push_back(fmt::format("the converted material could not be scored on the original data: {}", e.what()));
+    }
+  }
+
+  const std::string conversion =
+      out.converted ? fmt::format("converted from the {} fit through the metallic-roughness core", fit->model)
+                    : fmt::format("the {} fit, unchanged", fit->model);
+  nlohmann::json provenance = {{"result", document.path},
+                               {"input", document.input_path},
+                               {"model", out.material.model},
+                               {"source_model", fit->model},
+                               {"converted", out.converted},
+                               {"verdict", verdict_name(fit->verdict)},
+                               {"metric", metric_name},
+                               {"metrics", fit_result_json(*fit)["metrics"]}};
+  if (out.converted) provenance["converted_error_on_input"] = out.converted_error;
+  const std::string comment = fmt::format(
+      "brdffit {}: fitted to {}: {} ({} error {:.4g}{}).", BRDFFIT_VERSION, document.input_path, conversion, metric_name,
+      out.fit_error,
+      out.converted ? fmt::format("; this converted material's error on the same data {:.4g}", out.converted_error) : "");
+  switch (request.format) {
+    case MaterialFormat::Gltf: out.text = gltf_document(out.material, provenance); break;
+    case MaterialFormat::OpenPbr: out.text = materialx_document(out.material, comment); break;
+    case MaterialFormat::Mitsuba: out.text = mitsuba_document(out.material, comment); break;
+  }
+  return out;
+}
+
+std::string gltf_document(const Material& material, const nlohmann::json& provenance) {
+  const Model& model = *find_model(material.model);
+  if (material.model != "gltf" && material.model != "gltf-specular")
+    fail("glTF holds a gltf or gltf-specular material, not {}", material.model);
+  const std::vector<double>& v = material.values;
+  const Rgb<double> base = colour_at(model, v, "baseColor");
+  nlohmann::json gltf_material = {{"name", material.name},
+                                  {"pbrMetallicRoughness",
+                                   {{"baseColorFactor", {base[0], base[1], base[2], 1.0}},
+                                    {"metallicFactor", value_at(model, v, "metallic")},
+                                    {"roughnessFactor", value_at(model, v, "roughness")}}},
+                                  {"extras", {{"brdffit", provenance}}}};
+  nlohmann::json extensions_used = nlohmann::json::array();
+  if (material.model == "gltf-specular") {
+    gltf_material["extensions"] = {
+        {"KHR_materials_ior", {{"ior", value_at(model, v, "ior")}}},
+        {"KHR_materials_specular",
+         {{"specularFactor", value_at(model, v, "specular")},
+          {"specularColorFactor", number_array(colour_at(model, v, "specularColor"))}}}};
+    extensions_used = {"KHR_materials_ior", "KHR_materials_specular"};
+  }
+
+  // One buffer: positions, normals (the same unit vectors), then 16-bit indices.
+  const SphereMesh mesh = sphere_mesh();
+  std::vector<uint8_t> bytes;
+  for (int copy = 0; copy < 2; ++copy)
+    for (float x : mesh.positions) append_bytes(bytes, x);
+  for (uint16_t i : mesh.indices) append_bytes(bytes, i);
+  while (bytes.size() % 4) bytes.push_back(0);
+  const size_t vertices = mesh.positions.size() / 3, vertex_bytes = vertices * 12;
+  nlohmann::json gltf = {
+      {"asset", {{"version", "2.0"}, {"generator", "brdffit " BRDFFIT_VERSION}}},
+      {"scene", 0},
+      {"scenes", {{{"nodes", {0}}}}},
+      {"nodes", {{{"mesh", 0}, {"name", material.name}}}},
+      {"meshes",
+       {{{"name", "sphere"},
+         {"primitives", {{{"attributes", {{"POSITION", 0}, {"NORMAL", 1}}}, {"indices", 2}, {"material", 0}}}}}}},
+      {"accessors",
+       {{{"bufferView", 0}, {"componentType", 5126}, {"count", vertices}, {"type", "VEC3"},
+         {"min", {-1.0, -1.0, -1.0}}, {"max", {1.0, 1.0, 1.0}}},
+        {{"bufferView", 1}, {"componentType", 5126}, {"count", vertices}, {"type", "VEC3"}},
+        {{"bufferView", 2}, {"componentType", 5123}, {"count", mesh.indices.size()}, {"type", "SCALAR"}}}},
+      {"bufferViews",
+       {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", vertex_bytes}, {"target", 34962}},
+        {{"buffer", 0}, {"byteOffset", vertex_bytes}, {"byteLength", vertex_bytes}, {"target", 34962}},
+        {{"buffer", 0}, {"byteOffset", 2 * vertex_bytes}, {"byteLength", mesh.indices.size() * 2}, {"target", 34963}}}},
+      {"buffers", {{{"byteLength", bytes.size()}, {"uri", "data:application/octet-stream;base64," + base64(bytes)}}}},
+      {"materials", {gltf_material}}};
+  // The accessor bounds must be the data's exactly (the validator checks them).
+  Rgb<double> lo = Rgb<double>::Constant(1e30), hi = Rgb<double>::Constant(-1e30);
+  for (size_t i = 0; i < vertices; ++i)
+    for (int c = 0; c < 3; ++c) {
+      lo[c] = std::min<double>(lo[c], mesh.positions[3 * i + c]);
+      hi[c] = std::max<double>(hi[c], mesh.positions[3 * i + c]);
+    }
+  gltf["accessors"][0]["min"] = number_array(lo);
+  gltf["accessors"][0]["max"] = number_array(hi);
+  if (!extensions_used.empty()) gltf["extensionsUsed"] = extensions_used;
+  return gltf.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+}
+
+std::string materialx_document(const Material& material, const std::string& comment) {
+  if (material.model != "openpbr") fail("MaterialX holds an openpbr material, not {}", material.model);
+  const Model& model = *find_model(material.model);
+  const std::string name = xml_name(material.name);
   std::string xml = "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n";
-  xml += fmt::format(
-      "<!-- brdffit {}: the ggx fit of {} ({} error {:.4g}) as Mitsuba 3's principled BSDF.\n"
-      "     base_color, metallic and roughness as in brdffit's glTF export; specular 0.5 is a dielectric F0 of 0.04.\n"
-      "     Implied at normal incidence: albedo {:.4f} {:.4f} {:.4f}, f0 {:.4f} {:.4f} {:.4f}.\n"
-      "     Include this file in a scene and refer to the material as <ref id=\"{}\"/>. -->\n",
-      BRDFFIT_VERSION, xml_text(document.input_path), xml_text(document.json.value("metric", "cosine")),
-      fit.metrics.get(parse_metric(document.json.value("metric", "cosine")).value_or(Metric::Cosine)), mr.albedo[0],
-      mr.albedo[1], mr.albedo[2], mr.f0[0], mr.f0[1], mr.f0[2], xml_text(xml_id(name)));
+  xml += "<!-- " + xml_comment_text(comment) +
+         "\n     base_weight, specular_weight and specular_roughness_anisotropy: as brdffit's openpbr model holds them. -->\n";
+  xml += "<materialx version=\"1.39\" colorspace=\"lin_rec709\">\n";
+  xml += fmt::format("  <open_pbr_surface name=\"{}_shader\" type=\"surfaceshader\">\n", name);
+  xml += "    <input name=\"base_weight\" type=\"float\" value=\"1\" />\n";
+  int offset = 0;
+  for (const ParamSpec& p : model.parameters()) {
+    const std::vector<double>& v = material.values;
+    if (p.channels == 3)
+      xml += fmt::format("    <input name=\"{}\" type=\"color3\" value=\"{:.6f}, {:.6f}, {:.6f}\" />\n", p.name, v[offset],
+                         v[offset + 1], v[offset + 2]);
+    else
+      xml += fmt::format("    <input name=\"{}\" type=\"float\" value=\"{:.6f}\" />\n", p.name, v[offset]);
+    offset += p.channels;
+  }
+  xml += "    <input name=\"specular_weight\" type=\"float\" value=\"1\" />\n";
+  xml += "    <input name=\"specular_roughness_anisotropy\" type=\"float\" value=\"0\" />\n";
+  xml += "  </open_pbr_surface>\n";
+  xml += fmt::format("  <surfacematerial name=\"{}\" type=\"material\">\n", name);
+  xml += fmt::format("    <input name=\"surfaceshader\" type=\"surfaceshader\" nodename=\"{}_shader\" />\n", name);
+  xml += "  </surfacematerial>\n</materialx>\n";
+  return xml;
+}
+
+std::string mitsuba_document(const Material& material, const std::string& comment) {
+  if (material.model != "principled") fail("Mitsuba's principled BSDF holds a principled material, not {}", material.model);
+  const Model& model = *find_model(material.model);
+  const std::vector<double>& v = material.values;
+  const std::string id = xml_name(material.name);
+  std::string xml = "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n";
+  xml += "<!-- " + xml_comment_text(comment) +
+         "\n     Burley 2012's subsurface is Mitsuba's flatness; anisotropic 0 and sheen_tint 0.5 as brdffit holds them."
+         "\n     Include this file in a scene and refer to the material as <ref id=\"" +
+         id + "\"/>. -->\n";
   xml += "<scene version=\"3.0.0\">\n";
-  xml += fmt::format("    <bsdf type=\"principled\" id=\"{}\">\n", xml_text(xml_id(name)));
-  xml += fmt::format("        <rgb name=\"base_color\" value=\"{:.6f}, {:.6f}, {:.6f}\"/>\n", mr.base_color[0],
-                     mr.base_color[1], mr.base_color[2]);
-  xml += fmt::format("        <float name=\"metallic\" value=\"{:.6f}\"/>\n", mr.metallic);
-  xml += fmt::format("        <float name=\"roughness\" value=\"{:.6f}\"/>\n", mr.roughness);
-  xml += "        <float name=\"specular\" value=\"0.5\"/>\n";
+  xml += fmt::format("    <bsdf type=\"principled\" id=\"{}\">\n", id);
+  const Rgb<double> base = colour_at(model, v, "baseColor");
+  xml += fmt::format("        <rgb name=\"base_color\" value=\"{:.6f}, {:.6f}, {:.6f}\"/>\n", base[0], base[1], base[2]);
+  const std::pair<const char*, const char*> floats[] = {
+      {"metallic", "metallic"},       {"roughness", "roughness"},   {"specular", "specular"},
+      {"spec_tint", "specularTint"},  {"flatness", "subsurface"},   {"sheen", "sheen"},
+      {"clearcoat", "clearcoat"},     {"clearcoat_gloss", "clearcoatGloss"}};
+  for (const auto& [mitsuba, ours] : floats)
+    xml += fmt::format("        <float name=\"{}\" value=\"{:.6f}\"/>\n", mitsuba, value_at(model, v, ours));
+  xml += "        <float name=\"sheen_tint\" value=\"0.5\"/>\n";
+  xml += "        <float name=\"anisotropic\" value=\"0\"/>\n";
   xml += "    </bsdf>\n</scene>\n";
   return xml;
 }

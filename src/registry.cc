@@ -7,6 +7,8 @@
 #include "brdffit/models/cook_torrance.h"
 #include "brdffit/models/gaussian.h"
 #include "brdffit/models/ggx.h"
+#include "brdffit/models/gltf.h"
+#include "brdffit/models/gltf_specular.h"
 #include "brdffit/models/half_lambert.h"
 #include "brdffit/models/lafortune.h"
 #include "brdffit/models/lambert.h"
@@ -15,8 +17,10 @@
 #include "brdffit/models/low_microfacet.h"
 #include "brdffit/models/low_smooth.h"
 #include "brdffit/models/minnaert.h"
+#include "brdffit/models/openpbr.h"
 #include "brdffit/models/oren_nayar.h"
 #include "brdffit/models/phong.h"
+#include "brdffit/models/principled.h"
 #include "brdffit/models/sgd.h"
 #include "brdffit/models/toon.h"
 #include "brdffit/models/ward.h"
@@ -58,6 +62,11 @@ const std::vector<std::unique_ptr<Model>>& all_models() {
     add<models::LowCookTorrance>(list);
     add<models::LowAshikhminShirley>(list);
     add<models::Sgd>(list);
+    // Renderer materials: the BRDFs of glTF, OpenPBR and the Disney principled shader.
+    add<models::Gltf>(list);
+    add<models::GltfSpecular>(list);
+    add<models::OpenPbr>(list);
+    add<models::Principled>(list);
     return list;
   }();
   return models;

@@ -1,47 +1,33 @@
-// A ggx fit as a material for renderers: a glTF 2.0 metallic-roughness material and a Mitsuba 3
-// principled BSDF. The library side of `brdffit export`.
+// Renderer materials from fits: the library side of `brdffit export`, and of `score --material`.
 //
-// Our ggx (models/ggx.h):  f = albedo/π + D·F·G/(4 n·l n·v),  D GGX with α = roughness²,
-//                          F = f0 + (1 - f0)(1 - l·h)^5 per channel,  G Schlick-Smith (k = α/2).
-// glTF 2.0 (spec, appendix B): f = (1-m)·[(1 - F_d)·base/π + F_d·D·V] + m·F_m·D·V, with D GGX of
-//                          α = roughnessFactor², V the height-correlated Smith term, F_d Schlick
-//                          with F0 = 0.04 (dielectric) and F_m Schlick with F0 = base (metal).
+// A fit of a renderer's own BRDF is written unchanged:
+//   glTF 2.0 (.gltf)        the `gltf` fit (core metallic-roughness) or the `gltf-specular` fit
+//                           (with KHR_materials_ior and KHR_materials_specular), on a small
+//                           sphere mesh so that any viewer shows it;
+//   OpenPBR (.mtlx)         the `openpbr` fit as a MaterialX document with an open_pbr_surface;
+//   Mitsuba 3 (.xml)        the `principled` fit as Mitsuba's `principled` BSDF (Burley's
+//                           parameters; subsurface is Mitsuba's `flatness`, sheen_tint 0.5 as held).
+// Any other renderer model's fit, or a ggx fit, can be converted instead: the materials share a
+// metallic-roughness core (base colour, metallic, roughness, dielectric IOR), which is carried over
+// with every other parameter at the target's default. A ggx fit's core is the metallic-roughness
+// match below. A converted material is not what was fitted, so its error on the original data is
+// computed and reported beside the fit's own.
 //
-// Mapping (the same numbers for both formats):
-//   roughness   roughnessFactor = roughness: both square it into the GGX α.
-//   metallic m  glTF's material at normal incidence has diffuse reflectance (1-m)·0.96·base
-//               (0.96 = 1 - 0.04, the light the dielectric coat lets through) and specular F0
-//               0.04·(1-m) + m·base. Requiring both to equal the fit's albedo a and f0 f for the
-//               luminance (Rec. 709) of each colour gives, with t = 1 - m,
-//                   0.0384 t² - (a + 0.96 f) t + a = 0,
-//               a root of which is t = 1 for a dielectric (f = 0.04) and t = 0 for a metal
-//               (a = 0). The other root is L/0.04 for the base colour's luminance L, beyond 1
-//               unless the colour is very dark; when both lie in [0, 1] the larger is taken (the
-//               least metallic match). m = 1 - t, clamped to [0, 1]; m = 0 when there is no real
-//               root (f0 below any dielectric's).
-//   baseColor   per channel, with m fixed, the b in [0, 1] that best matches both equations
-//               (least squares): b = ((1-m)·0.96·a + m·(f - 0.04(1-m))) / (((1-m)·0.96)² + m²).
-// A fit whose colours are those of a glTF material (a grey-specular dielectric, a metal, or a
-// blend of the two) is reproduced exactly at normal incidence; otherwise the albedo and f0 the
-// material implies are reported beside the fitted ones. What the formats cannot carry: their
-// shadowing term (height-correlated Smith) differs slightly from ours, glTF dims the diffuse
-// term by 1 - F(v·h) rather than a constant, and coloured dielectric f0 has no place (a metallic
-// blend approximates it). Per-channel fits export the mean of their three roughness values.
-//
-// Mitsuba 3: the `principled` BSDF, whose main lobe is GGX with α = roughness² (Disney's
-// convention, as ours) and which takes glTF's parameters: base_color = baseColor, metallic = m,
-// roughness = roughness, specular = 0.5 (its dielectric IOR 1.5, F0 = 0.04, as glTF's); sheen,
-// clearcoat, spec_tint, anisotropic and spec_trans stay at 0. Its diffuse is Disney's (a slight
-// retro-reflection at grazing angles) and its dielectric Fresnel the exact one for IOR 1.5.
-// `roughconductor` (GGX, but no diffuse term, Fresnel from complex IOR) and `roughplastic` (GGX
-// over a diffuse base, but one grey IOR and internal scattering that changes the diffuse colour)
-// each capture only one side of the fit, and Mitsuba has no BSDF that adds two lobes
-// (`blendbsdf` interpolates), so principled is the closest single plugin.
+// ggx → metallic-roughness (models/ggx.h: f = albedo/π + D·F·G/(4 n·l n·v), F Schlick of f0):
+//   glTF's material at normal incidence has diffuse reflectance (1-m)·0.96·base and specular F0
+//   0.04·(1-m) + m·base. Requiring both to equal the fit's albedo a and f0 f for the luminance
+//   (Rec. 709) of each colour gives, with t = 1 - m, 0.0384 t² - (a + 0.96 f) t + a = 0, a root of
+//   which is t = 1 for a dielectric (f = 0.04) and t = 0 for a metal (a = 0); when both lie in
+//   [0, 1] the larger is taken (the least metallic match); no real root: m = 0. Then per channel
+//   the base colour b in [0, 1] that best matches both equations (least squares):
+//   b = ((1-m)·0.96·a + m·(f - 0.04(1-m))) / (((1-m)·0.96)² + m²).
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "brdffit/math.h"
+#include "brdffit/metric.h"
 #include "brdffit/result_json.h"
 
 namespace brdffit {
@@ -57,15 +43,66 @@ struct MetallicRoughness {
 
 MetallicRoughness metallic_roughness(const Rgb<double>& albedo, const Rgb<double>& f0, double roughness);
 
-// The ggx fit of a result document as metallic-roughness parameters. Throws Error naming the
-// document when it has no ggx result or the ggx fit failed.
-MetallicRoughness metallic_roughness_of(const FitDocument& document);
+enum class MaterialFormat { Gltf, OpenPbr, Mitsuba };
+const char* material_format_name(MaterialFormat format);
+// The format named (gltf, openpbr, mitsuba), or when `name` is empty the one implied by the
+// path's extension (.gltf, .mtlx, .xml); throws Error otherwise.
+MaterialFormat material_format(const std::string& name, const std::string& path);
+// The models a format writes unchanged (gltf: gltf and gltf-specular).
+std::vector<std::string> native_models(MaterialFormat format);
 
-// A glTF 2.0 document (JSON text) holding one material named after the document's material,
-// with the fitted values, the implied ones and the metrics under extras.brdffit.
-std::string gltf_material(const FitDocument& document);
-// A Mitsuba 3 scene file holding one principled BSDF with the material's name as its id, to be
-// included in a scene (<include filename="..."/>) and referred to by <ref id="..."/>.
-std::string mitsuba_bsdf(const FitDocument& document);
+// A material of one of the renderer models (gltf, gltf-specular, openpbr, principled).
+struct Material {
+  std::string name;
+  std::string model;
+  std::vector<double> values;  // flattened, in the model's parameter order
+};
+
+// The material `model` (a renderer model) closest to `source_model` with `values`, through their
+// shared metallic-roughness core (see above). Throws Error when source_model has no core.
+Material convert_material(const std::string& source_model, const std::vector<double>& values,
+                          const std::string& model);
+
+struct ExportRequest {
+  MaterialFormat format = MaterialFormat::Gltf;
+  std::string model;   // the fit to export; empty: the format's own model
+  bool force = false;  // export a fit whose verdict is poor or failed (with a warning)
+};
+
+struct MaterialExport {
+  Material material;
+  std::string source_model;  // the fit the material comes from
+  bool converted = false;    // material.model differs from source_model
+  std::string metric;        // the document's metric
+  double fit_error = NAN;    // the fit's own error, from the document
+  // Converted materials: both errors on the original data, all samples (NaN when it could not
+  // be read; a warning then says why).
+  double converted_error = NAN, source_error_on_data = NAN;
+  std::vector<std::string> warnings;
+  std::string text;  // the file's contents
+};
+
+// Chooses the fit, refuses a poor or failed verdict without request.force, converts when asked
+// and writes the file's text. Throws Error naming the document for anything it cannot export.
+MaterialExport export_material(const FitDocument& document, const ExportRequest& request);
+
+// The files for one material; `provenance` goes into the glTF extras and the XML comment.
+std::string gltf_document(const Material& material, const nlohmann::json& provenance);
+std::string materialx_document(const Material& material, const std::string& comment);
+std::string mitsuba_document(const Material& material, const std::string& comment);
+
+// Materials read back from a .gltf, .mtlx or Mitsuba .xml file, each as the matching model
+// (gltf or gltf-specular, openpbr, principled). Inputs the model does not have (textures,
+// coat, ...) or holds fixed are reported in `warnings`. Throws Error naming the file when it
+// is not one of these formats or holds no material.
+std::vector<Material> read_materials(const std::string& path, std::vector<std::string>& warnings);
+// The material called `name` (empty: the file's only material); throws Error naming the file
+// and the materials it has otherwise.
+Material read_material(const std::string& path, const std::string& name, std::vector<std::string>& warnings);
+
+// What `score --material` evaluates: the material called `name` in `path`, converted to `model`
+// when that is given and differs (with a warning saying so).
+Material material_for_scoring(const std::string& path, const std::string& name, const std::string& model,
+                              std::vector<std::string>& warnings);
 
 }  // namespace brdffit

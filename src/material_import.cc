@@ -1,0 +1,355 @@
+// Renderer materials read back from .gltf, .mtlx (OpenPBR) and Mitsuba 3 .xml files, as the
+// matching brdffit model (see material_export.h). The XML files are read with a small reader of
+// elements and attributes: enough for these formats, which keep every value in attributes.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
+
+#include "brdffit/error.h"
+#include "brdffit/io.h"
+#include "brdffit/material_export.h"
+#include "brdffit/model.h"
+
+namespace brdffit {
+
+namespace {
+
+struct XmlElement {
+  std::string tag;
+  std::map<std::string, std::string> attributes;
+  int parent = -1;  // index into the element list; -1 for the root
+};
+
+std::string xml_unescape(const std::string& text, const std::string& path) {
+  std::string out;
+  for (size_t i = 0; i < text.size(); ++i) {
+    if (text[i] != '&') {
+      out += text[i];
+      continue;
+    }
+    const size_t end = text.find(';', i);
+    if (end == std::string::npos) fail("{}: malformed XML: '&' without ';'", path);
+    const std::string entity = text.substr(i + 1, end - i - 1);
+    if (entity == "amp") out += '&';
+    else if (entity == "lt") out += '<';
+    else if (entity == "gt") out += '>';
+    else if (entity == "quot") out += '"';
+    else if (entity == "apos") out += '\'';
+    else if (entity.size() > 1 && entity[0] == '#') {
+      const bool hex = entity[1] == 'x' || entity[1] == 'X';
+      const long code = std::strtol(entity.c_str() + (hex ? 2 : 1), nullptr, hex ? 16 : 10);
+      if (code > 0 && code < 0x80) out += static_cast<char>(code);
+      else out += '?';  // names and numbers here are ASCII
+    } else {
+      fail("{}: malformed XML: unknown entity &{};", path, entity);
+    }
+    i = end;
+  }
+  return out;
+}
+
+// Every element of the document in order, with its attributes and parent. Throws Error naming
+// the file for malformed markup (unclosed tags, mismatched end tags, unquoted attributes).
+std::vector<XmlElement> parse_xml(const std::string& text, const std::string& path) {
+  std::vector<XmlElement> elements;
+  std::vector<int> open;
+  size_t i = 0;
+  const auto malformed = [&](const char* what) { fail("{}: malformed XML: {} (at byte {})", path, what, i); };
+  while ((i = text.find('<', i)) != std::string::npos) {
+    if (text.compare(i, 4, "<!--") == 0) {
+      const size_t end = text.find("-->", i + 4);
+      if (end == std::string::npos) malformed("unterminated comment");
+      i = end + 3;
+      continue;
+    }
+    if (text.compare(i, 2, "<?") == 0 || text.compare(i, 2, "<!") == 0) {
+      const size_t end = text.find('>', i);
+      if (end == std::string::npos) malformed("unterminated declaration");
+      i = end + 1;
+      continue;
+    }
+    const size_t end = text.find('>', i);
+    if (end == std::string::npos) malformed("unterminated tag");
+    std::string body = text.substr(i + 1, end - i - 1);
+    if (!body.empty() && body[0] == '/') {
+      const std::string tag = body.substr(1, body.find_first_of(" \t\r\n", 1) - 1);
+      if (open.empty() || elements[open.back()].tag != tag) malformed("mismatched end tag");
+      open.pop_back();
+      i = end + 1;
+      continue;
+    }
+    const bool self_closing = !body.empty() && body.back() == '/';
+    if (self_closing) body.pop_back();
+    XmlElement element;
+    size_t k = body.find_first_of(" \t\r\n");
+    element.tag = body.substr(0, k);
+    if (element.tag.empty()) malformed("empty tag");
+    while (k != std::string::npos && k < body.size()) {
+      k = body.find_first_not_of(" \t\r\n", k);
+      if (k == std::string::npos) break;
+      const size_t eq = body.find('=', k);
+      if (eq == std::string::npos) malformed("attribute without a value");
+      std::string name = body.substr(k, eq - k);
+      name.erase(name.find_last_not_of(" \t\r\n") + 1);
+      size_t q = body.find_first_not_of(" \t\r\n", eq + 1);
+      if (q == std::string::npos || (body[q] != '"' && body[q] != '\'')) malformed("unquoted attribute");
+      const size_t close = body.find(body[q], q + 1);
+      if (close == std::string::npos) malformed("unterminated attribute");
+      element.attributes[name] = xml_unescape(body.substr(q + 1, close - q - 1), path);
+      k = close + 1;
+    }
+    element.parent = open.empty() ? -1 : open.back();
+    elements.push_back(std::move(element));
+    if (!self_closing) open.push_back(static_cast<int>(elements.size()) - 1);
+    i = end + 1;
+  }
+  if (!open.empty()) fail("{}: malformed XML: <{}> is never closed", path, elements[open.back()].tag);
+  return elements;
+}
+
+std::string attribute(const XmlElement& e, const std::string& name) {
+  const auto it = e.attributes.find(name);
+  return it == e.attributes.end() ? "" : it->second;
+}
+
+// One number or a colour: "x" or "r, g, b" (commas and/or spaces).
+std::vector<double> parse_numbers(const std::string& text, const std::string& what, const std::string& path) {
+  std::string spaced = text;
+  std::replace(spaced.begin(), spaced.end(), ',', ' ');
+  std::istringstream in(spaced);
+  std::vector<double> values;
+  std::string token;
+  while (in >> token) {
+    char* end = nullptr;
+    const double x = std::strtod(token.c_str(), &end);
+    if (end == token.c_str() || *end != '\0' || !std::isfinite(x)) fail("{}: {}: '{}' is not a number", path, what, text);
+    values.push_back(x);
+  }
+  if (values.size() != 1 && values.size() != 3) fail("{}: {}: '{}' is not one number or three", path, what, text);
+  return values;
+}
+
+// Sets the named parameter (a colour takes one value for every channel, or three), inside the
+// model's bounds: a value outside them is clamped with a warning.
+void set_parameter(const Model& model, Material& material, const std::string& param, const std::vector<double>& value,
+                   const std::string& path, std::vector<std::string>& warnings) {
+  const ParamSpec& p = *model.find_parameter(param);
+  const int offset = model.offset_of(param);
+  for (int c = 0; c < p.channels; ++c) {
+    double x = value.size() == 3 ? value[c] : value[0];
+    if (x < p.lower || x > p.upper) {
+      warnings.push_back(fmt::format("{}: {} of '{}' is {}, outside the {} model's [{}, {}]: clamped", path, param,
+                                     material.name, x, model.name(), p.lower, p.upper));
+      x = std::clamp(x, p.lower, p.upper);
+    }
+    material.values[offset + c] = x;
+  }
+}
+
+std::vector<double> json_numbers(const nlohmann::json& j, size_t count, const std::string& what, const std::string& path) {
+  std::vector<double> values;
+  if (j.is_number()) values.push_back(j.get<double>());
+  else if (j.is_array())
+    for (const nlohmann::json& x : j) {
+      if (!x.is_number()) fail("{}: {} holds a non-number", path, what);
+      values.push_back(x.get<double>());
+    }
+  else fail("{}: {} is not a number or an array of numbers", path, what);
+  if (values.size() < count) fail("{}: {} has {} values, expected {}", path, what, values.size(), count);
+  values.resize(count);
+  return values;
+}
+
+std::vector<Material> read_gltf(const std::string& path, std::vector<std::string>& warnings) {
+  nlohmann::json gltf;
+  try {
+    gltf = nlohmann::json::parse(read_file(path));
+  } catch (const nlohmann::json::exception& e) {
+    fail("{}: not a glTF (JSON) file: {}", path, e.what());
+  }
+  if (!gltf.is_object() || !gltf.contains("materials") || !gltf["materials"].is_array())
+    fail("{}: a glTF file without materials", path);
+  std::vector<Material> materials;
+  int index = 0;
+  for (const nlohmann::json& m : gltf["materials"]) {
+    const nlohmann::json extensions = m.value("extensions", nlohmann::json::object());
+    const bool has_specular = extensions.contains("KHR_materials_ior") || extensions.contains("KHR_materials_specular");
+    const Model& model = *find_model(has_specular ? "gltf-specular" : "gltf");
+    Material material{m.value("name", fmt::format("material {}", index)), model.name(), model.default_values()};
+    ++index;
+    // glTF's defaults where a factor is absent: baseColor 1, metallic 1, roughness 1.
+    const nlohmann::json pbr = m.value("pbrMetallicRoughness", nlohmann::json::object());
+    const std::string where = fmt::format("material '{}'", material.name);
+    set_parameter(model, material, "baseColor",
+                  json_numbers(pbr.value("baseColorFactor", nlohmann::json{1.0, 1.0, 1.0, 1.0}), 3,
+                               where + " baseColorFactor", path),
+                  path, warnings);
+    set_parameter(model, material, "metallic",
+                  json_numbers(pbr.value("metallicFactor", nlohmann::json(1.0)), 1, where + " metallicFactor", path), path,
+                  warnings);
+    set_parameter(model, material, "roughness",
+                  json_numbers(pbr.value("roughnessFactor", nlohmann::json(1.0)), 1, where + " roughnessFactor", path),
+                  path, warnings);
+    if (has_specular) {
+      const nlohmann::json ior = extensions.value("KHR_materials_ior", nlohmann::json::object());
+      const nlohmann::json spec = extensions.value("KHR_materials_specular", nlohmann::json::object());
+      set_parameter(model, material, "ior", json_numbers(ior.value("ior", nlohmann::json(1.5)), 1, where + " ior", path),
+                    path, warnings);
+      set_parameter(model, material, "specular",
+                    json_numbers(spec.value("specularFactor", nlohmann::json(1.0)), 1, where + " specularFactor", path),
+                    path, warnings);
+      set_parameter(model, material, "specularColor",
+                    json_numbers(spec.value("specularColorFactor", nlohmann::json{1.0, 1.0, 1.0}), 3,
+                                 where + " specularColorFactor", path),
+                    path, warnings);
+    }
+    for (const char* texture : {"baseColorTexture", "metallicRoughnessTexture"})
+      if (pbr.contains(texture))
+        warnings.push_back(fmt::format("{}: {} has a {}: only the factors are scored", path, where, texture));
+    for (const auto& [name, value] : extensions.items())
+      if (name != "KHR_materials_ior" && name != "KHR_materials_specular")
+        warnings.push_back(fmt::format("{}: {} uses {}, which the gltf models leave out", path, where, name));
+    materials.push_back(std::move(material));
+  }
+  return materials;
+}
+
+std::vector<Material> read_materialx(const std::string& path, std::vector<std::string>& warnings) {
+  const std::vector<XmlElement> elements = parse_xml(read_file(path), path);
+  if (elements.empty() || elements[0].tag != "materialx") fail("{}: not a MaterialX document (<materialx>)", path);
+  const Model& model = *find_model("openpbr");
+  // Materials are named by the surfacematerial that uses a shader, or by the shader itself.
+  std::map<std::string, std::string> material_of_shader;
+  for (size_t i = 0; i < elements.size(); ++i)
+    if (elements[i].tag == "input" && attribute(elements[i], "name") == "surfaceshader" && elements[i].parent >= 0 &&
+        elements[elements[i].parent].tag == "surfacematerial")
+      material_of_shader[attribute(elements[i], "nodename")] = attribute(elements[elements[i].parent], "name");
+  std::vector<Material> materials;
+  for (size_t i = 0; i < elements.size(); ++i) {
+    if (elements[i].tag != "open_pbr_surface") continue;
+    const std::string shader = attribute(elements[i], "name");
+    const auto named = material_of_shader.find(shader);
+    Material material{named != material_of_shader.end() ? named->second : shader, model.name(), model.default_values()};
+    // The specification's defaults where an input is absent (they differ from the fit's starts).
+    set_parameter(model, material, "base_color", {0.8}, path, warnings);
+    set_parameter(model, material, "specular_roughness", {0.3}, path, warnings);
+    double base_weight = 1.0, specular_weight = 1.0;
+    for (size_t k = i + 1; k < elements.size(); ++k) {
+      if (elements[k].parent != static_cast<int>(i) || elements[k].tag != "input") continue;
+      const std::string name = attribute(elements[k], "name");
+      if (!attribute(elements[k], "nodename").empty() || !attribute(elements[k], "nodegraph").empty()) {
+        warnings.push_back(fmt::format("{}: {} of '{}' is connected to a node: left at its default", path, name, material.name));
+        continue;
+      }
+      const std::vector<double> value = parse_numbers(attribute(elements[k], "value"), name, path);
+      if (name == "base_weight") base_weight = value[0];
+      else if (name == "specular_weight") specular_weight = value[0];
+      else if (model.find_parameter(name)) set_parameter(model, material, name, value, path, warnings);
+      else if (name == "specular_roughness_anisotropy" && value[0] != 0.0)
+        warnings.push_back(fmt::format("{}: specular_roughness_anisotropy {} of '{}' is held at 0 by the openpbr model",
+                                       path, value[0], material.name));
+      else if (value.size() == 1 && value[0] != 0.0 && name.find("weight") != std::string::npos)
+        warnings.push_back(fmt::format("{}: {} = {} of '{}' is outside the opaque base brdffit's openpbr model has",
+                                       path, name, value[0], material.name));
+    }
+    // base_weight multiplies base_color wherever it appears: folded in exactly.
+    const int base = model.offset_of("base_color");
+    for (int c = 0; c < 3; ++c) material.values[base + c] *= std::clamp(base_weight, 0.0, 1.0);
+    if (specular_weight != 1.0)
+      warnings.push_back(fmt::format("{}: specular_weight {} of '{}' is held at 1 by the openpbr model: not scored",
+                                     path, specular_weight, material.name));
+    materials.push_back(std::move(material));
+  }
+  return materials;
+}
+
+std::vector<Material> read_mitsuba(const std::string& path, std::vector<std::string>& warnings) {
+  const std::vector<XmlElement> elements = parse_xml(read_file(path), path);
+  if (elements.empty() || elements[0].tag != "scene") fail("{}: not a Mitsuba scene (<scene>)", path);
+  const Model& model = *find_model("principled");
+  const std::map<std::string, std::string> ours = {
+      {"base_color", "baseColor"}, {"metallic", "metallic"},     {"roughness", "roughness"},
+      {"specular", "specular"},    {"spec_tint", "specularTint"}, {"flatness", "subsurface"},
+      {"sheen", "sheen"},          {"clearcoat", "clearcoat"},     {"clearcoat_gloss", "clearcoatGloss"}};
+  std::vector<Material> materials;
+  for (size_t i = 0; i < elements.size(); ++i) {
+    if (elements[i].tag != "bsdf" || attribute(elements[i], "type") != "principled") continue;
+    const std::string id = attribute(elements[i], "id");
+    Material material{id.empty() ? fmt::format("bsdf {}", materials.size()) : id, model.name(), model.default_values()};
+    // Mitsuba's defaults where a parameter is absent.
+    const std::map<std::string, std::vector<double>> defaults = {
+        {"baseColor", {0.5}}, {"metallic", {0.0}}, {"roughness", {0.5}}, {"specular", {0.5}}, {"specularTint", {0.0}},
+        {"subsurface", {0.0}}, {"sheen", {0.0}}, {"clearcoat", {0.0}}, {"clearcoatGloss", {0.0}}};
+    for (const auto& [name, value] : defaults) set_parameter(model, material, name, value, path, warnings);
+    double sheen_tint = 0.0;
+    for (size_t k = i + 1; k < elements.size(); ++k) {
+      if (elements[k].parent != static_cast<int>(i)) continue;
+      const std::string name = attribute(elements[k], "name");
+      if (elements[k].tag == "texture") {
+        warnings.push_back(fmt::format("{}: {} of '{}' is a texture: left at its default", path, name, material.name));
+        continue;
+      }
+      if (elements[k].tag != "rgb" && elements[k].tag != "float") continue;
+      const std::vector<double> value = parse_numbers(attribute(elements[k], "value"), name, path);
+      const auto it = ours.find(name);
+      if (it != ours.end()) set_parameter(model, material, it->second, value, path, warnings);
+      else if (name == "sheen_tint") sheen_tint = value[0];
+      else if (value[0] != 0.0)
+        warnings.push_back(fmt::format("{}: {} = {} of '{}' is not in brdffit's principled model (held at 0)", path, name,
+                                       value[0], material.name));
+    }
+    if (sheen_tint != 0.5 && material.values[model.offset_of("sheen")] > 0.0)
+      warnings.push_back(fmt::format("{}: sheen_tint {} of '{}' is held at 0.5 by the principled model", path, sheen_tint,
+                                     material.name));
+    materials.push_back(std::move(material));
+  }
+  return materials;
+}
+
+}  // namespace
+
+std::vector<Material> read_materials(const std::string& path, std::vector<std::string>& warnings) {
+  const std::string extension = std::filesystem::path(path).extension().string();
+  std::vector<Material> materials;
+  if (extension == ".gltf") materials = read_gltf(path, warnings);
+  else if (extension == ".mtlx") materials = read_materialx(path, warnings);
+  else if (extension == ".xml") materials = read_mitsuba(path, warnings);
+  else fail("{}: a material is read from .gltf, .mtlx (OpenPBR) or Mitsuba .xml (principled)", path);
+  if (materials.empty())
+    fail("{}: holds no {}", path,
+         extension == ".gltf" ? "material" : extension == ".mtlx" ? "open_pbr_surface" : "principled bsdf");
+  return materials;
+}
+
+Material read_material(const std::string& path, const std::string& name, std::vector<std::string>& warnings) {
+  std::vector<Material> materials = read_materials(path, warnings);
+  std::string names;
+  for (const Material& m : materials) names += (names.empty() ? "" : ", ") + m.name;
+  if (name.empty()) {
+    if (materials.size() > 1) fail("{}: holds {} materials ({}): choose one with --name", path, materials.size(), names);
+    return materials.front();
+  }
+  for (Material& m : materials)
+    if (m.name == name) return m;
+  fail("{}: has no material '{}' (it has: {})", path, name, names);
+}
+
+Material material_for_scoring(const std::string& path, const std::string& name, const std::string& model,
+                              std::vector<std::string>& warnings) {
+  Material material = read_material(path, name, warnings);
+  if (model.empty() || model == material.model) return material;
+  if (!find_model(model)) fail("unknown model '{}' (known: {})", model, model_names());
+  warnings.push_back(fmt::format("the {} material '{}' is scored converted to {} (through the metallic-roughness core)",
+                                 material.model, material.name, model));
+  Material converted = convert_material(material.model, material.values, model);
+  converted.name = material.name;
+  return converted;
+}
+
+}  // namespace brdffit
