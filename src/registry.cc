@@ -1,12 +1,14 @@
 // The list of models. Adding a model: write include/brdffit/models/<name>.h and add one line here.
 #include "brdffit/model_adapter.h"
 #include "brdffit/models/ashikhmin_shirley.h"
+#include "brdffit/models/ashikhmin_shirley_aniso.h"
 #include "brdffit/models/banded.h"
 #include "brdffit/models/beckmann.h"
 #include "brdffit/models/blinn_phong.h"
 #include "brdffit/models/cook_torrance.h"
 #include "brdffit/models/gaussian.h"
 #include "brdffit/models/ggx.h"
+#include "brdffit/models/ggx_aniso.h"
 #include "brdffit/models/half_lambert.h"
 #include "brdffit/models/lafortune.h"
 #include "brdffit/models/lambert.h"
@@ -15,6 +17,7 @@
 #include "brdffit/models/phong.h"
 #include "brdffit/models/toon.h"
 #include "brdffit/models/ward.h"
+#include "brdffit/models/ward_aniso.h"
 #include "brdffit/models/wrap.h"
 
 namespace brdffit {
@@ -47,6 +50,10 @@ const std::vector<std::unique_ptr<Model>>& all_models() {
     add<models::Ward>(list);
     add<models::AshikhminShirley>(list);
     add<models::Lafortune>(list);
+    // Anisotropic (brushed metals, satins): each with its tangent frame's rotation phi0.
+    add<models::GgxAniso>(list);
+    add<models::WardAniso>(list);
+    add<models::AshikhminShirleyAniso>(list);
     return list;
   }();
   return models;

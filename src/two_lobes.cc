@@ -1,0 +1,210 @@
+#include "brdffit/two_lobes.h"
+
+#include <array>
+#include <cmath>
+
+#include "brdffit/error.h"
+#include "brdffit/fit_residual.h"
+
+namespace brdffit {
+
+namespace {
+
+// Components with more values than this are not supported (the largest registered model has 10).
+constexpr int kMaxComponentValues = 32;
+constexpr const char* kSuffix = "_2";
+
+// Direction pairs at which a component's structure is checked.
+const std::array<std::pair<Vec3, Vec3>, 4>& probe_pairs() {
+  static const std::array<std::pair<Vec3, Vec3>, 4> pairs = {
+      std::pair{Vec3(0, 0, 1), Vec3(0, 0, 1)}, {Vec3(0.6, 0, 0.8), Vec3(-0.6, 0, 0.8)},
+      {Vec3(0.3, -0.2, 0.93).normalized(), Vec3(-0.5, 0.4, 0.6).normalized()},
+      {Vec3(0.9, 0.1, 0.3).normalized(), Vec3(0.1, 0.8, 0.5).normalized()}};
+  return pairs;
+}
+
+// Whether `model` is albedo/π plus a lobe that does not depend on albedo, checked at the
+// defaults and the probe pairs.
+bool is_lobe_over_lambert(const Model& model) {
+  const ParamSpec* albedo = model.find_parameter("albedo");
+  if (!model.has_brdf() || !albedo || albedo->channels != 3 || albedo->role != Role::DiffuseColour ||
+      model.parameters().size() < 2 || model.num_values() > kMaxComponentValues)
+    return false;
+  std::vector<double> values = model.default_values();
+  const int offset = model.offset_of("albedo");
+  for (const auto& [l, v] : probe_pairs()) {
+    std::fill_n(values.begin() + offset, 3, 0.0);
+    const Rgb<double> without = model.shade(values.data(), l, v);
+    std::fill_n(values.begin() + offset, 3, 0.7);
+    const Rgb<double> with = model.shade(values.data(), l, v);
+    if (((with - without).array() - 0.7 * kInvPi * l.z()).abs().maxCoeff() > 1e-12) return false;
+  }
+  return true;
+}
+
+// The model's linear specular colour if setting it to 0 (with albedo 0) leaves nothing at the
+// probe pairs, for its defaults and for every other value at its upper bound; else nullptr.
+const ParamSpec* switching_scale(const Model& model) {
+  for (const ParamSpec& p : model.parameters()) {
+    if (p.role != Role::SpecularColour || !p.linear) continue;
+    bool vanishes = true;
+    for (bool at_upper : {false, true}) {
+      std::vector<double> values = model.default_values();
+      if (at_upper) {
+        int offset = 0;
+        for (const ParamSpec& q : model.parameters()) {
+          std::fill_n(values.begin() + offset, q.channels, q.upper);
+          offset += q.channels;
+        }
+      }
+      std::fill_n(values.begin() + model.offset_of("albedo"), 3, 0.0);
+      std::fill_n(values.begin() + model.offset_of(p.name), p.channels, 0.0);
+      for (const auto& [l, v] : probe_pairs()) vanishes = vanishes && model.shade(values.data(), l, v).isZero(0.0);
+    }
+    if (vanishes) return &p;
+  }
+  return nullptr;
+}
+
+class TwoLobes final : public Model {
+ public:
+  TwoLobes(const Model& first, const Model& second) : lobes_{&first, &second} {
+    for (const Model* lobe : lobes_)
+      if (!is_lobe_over_lambert(*lobe))
+        fail("model {}{}{}: {} is not a specular lobe over the Lambert base albedo/π, so it cannot be one of two lobes",
+             first.name(), kLobeSeparator, second.name(), lobe->name());
+    name_ = first.name() + kLobeSeparator + second.name();
+    const ParamSpec* second_scale = switching_scale(second);
+    weighted_ = second_scale == nullptr;
+    summary_ = "albedo/π + " + first.name() + " lobe + " + (weighted_ ? "weight_2 · " : "") + second.name() +
+               " lobe: two specular lobes over one Lambert base";
+
+    params_.push_back(*first.find_parameter("albedo"));
+    for (int k = 0; k < 2; ++k) {
+      const Model& lobe = *lobes_[k];
+      for (const ParamSpec& p : lobe.parameters()) {
+        for (int c = 0; c < p.channels; ++c) map_[k].push_back(p.name == "albedo" ? -1 : num_flattened_ + c);
+        if (p.name == "albedo") continue;
+        ParamSpec renamed = p;
+        if (k == 1) {
+          renamed.name += kSuffix;
+          renamed.meaning = "second lobe: " + p.meaning;
+          if (weighted_) renamed.linear = false;  // multiplied by weight_2
+        }
+        params_.push_back(renamed);
+        num_flattened_ += p.channels;
+      }
+    }
+    if (weighted_) {
+      weight_offset_ = num_flattened_;
+      params_.push_back({std::string("weight") + kSuffix, 1, 0.0, 1.0, 0.5,
+                         "scale of the second lobe (0 switches it off)", Role::SpecularColour, /*linear=*/true});
+    }
+    declare_nestings(switching_scale(first), second_scale);
+  }
+
+  const std::string& name() const override { return name_; }
+  const std::string& summary() const override { return summary_; }
+  const std::vector<ParamSpec>& parameters() const override { return params_; }
+  bool has_brdf() const override { return true; }
+  bool energy_conserving() const override { return false; }  // two lobes may reflect more than one
+  const std::vector<Nesting>& nestings() const override { return nestings_; }
+
+  Rgb<double> shade(const double* values, const Vec3& l, const Vec3& v) const override {
+    if (l.z() <= 0.0) return Rgb<double>::Zero();
+    return combine(values, [&](const Model& lobe, const double* p) { return lobe.shade(p, l, v); }) +
+           colour_of(values) * (kInvPi * l.z());
+  }
+
+  std::optional<Rgb<double>> brdf(const double* values, const Vec3& l, const Vec3& v) const override {
+    return combine(values, [&](const Model& lobe, const double* p) { return *lobe.brdf(p, l, v); }) +
+           colour_of(values) * kInvPi;
+  }
+
+  Rgb<double> shade_with_jacobian(const double* values, const Vec3& l, const Vec3& v,
+                                  double* jacobian) const override {
+    const int n = num_values();
+    std::fill_n(jacobian, 3 * n, 0.0);
+    if (l.z() <= 0.0) return Rgb<double>::Zero();
+    Rgb<double> total = colour_of(values) * (kInvPi * l.z());
+    for (int c = 0; c < 3; ++c) jacobian[c * n + c] = kInvPi * l.z();  // albedo occupies values 0..2
+    std::array<double, 3 * kMaxComponentValues> lobe_jacobian;
+    for (int k = 0; k < 2; ++k) {
+      const std::array<double, kMaxComponentValues> p = component_values(k, values);
+      const Rgb<double> lobe = lobes_[k]->shade_with_jacobian(p.data(), l, v, lobe_jacobian.data());
+      const double w = weight(k, values);
+      const int m = lobes_[k]->num_values();
+      total += w * lobe;
+      for (int c = 0; c < 3; ++c) {
+        for (int i = 0; i < m; ++i)
+          if (map_[k][i] >= 0) jacobian[c * n + map_[k][i]] += w * lobe_jacobian[c * m + i];
+        if (k == 1 && weighted_) jacobian[c * n + weight_offset_] = lobe[c];
+      }
+    }
+    return total;
+  }
+
+  ceres::CostFunction* new_batch_cost(const ResidualBatch& batch) const override {
+    return new JacobianBatchCost(*this, batch);
+  }
+
+ private:
+  // Albedo is the first parameter of the composite.
+  static Rgb<double> colour_of(const double* values) { return Rgb<double>(values[0], values[1], values[2]); }
+
+  // Component k's values: its own from the composite's, its albedo 0 (the lobe alone).
+  std::array<double, kMaxComponentValues> component_values(int k, const double* values) const {
+    std::array<double, kMaxComponentValues> p{};
+    for (size_t i = 0; i < map_[k].size(); ++i) p[i] = map_[k][i] >= 0 ? values[map_[k][i]] : 0.0;
+    return p;
+  }
+
+  double weight(int k, const double* values) const { return k == 1 && weighted_ ? values[weight_offset_] : 1.0; }
+
+  // Σ_k w_k · lobe_k, with `eval(model, values)` evaluating a component.
+  template <class Eval>
+  Rgb<double> combine(const double* values, Eval&& eval) const {
+    Rgb<double> sum = Rgb<double>::Zero();
+    for (int k = 0; k < 2; ++k) {
+      const std::array<double, kMaxComponentValues> p = component_values(k, values);
+      sum += weight(k, values) * eval(*lobes_[k], p.data());
+    }
+    return sum;
+  }
+
+  void declare_nestings(const ParamSpec* first_scale, const ParamSpec* second_scale) {
+    const std::string second_off = weighted_ ? std::string("weight") + kSuffix : second_scale->name + kSuffix;
+    Nesting first{lobes_[0]->name(), {}, {{second_off, 0.0}}, true, "the second lobe switched off (" + second_off + " = 0)"};
+    for (const ParamSpec& p : lobes_[0]->parameters()) first.copies.push_back({p.name, p.name});
+    nestings_.push_back(first);
+    Nesting lambert{"lambert", {{"albedo", "albedo"}}, {{second_off, 0.0}}, first_scale != nullptr,
+                    "both lobes switched off"};
+    if (first_scale) {
+      lambert.fixed.push_back({first_scale->name, 0.0});
+    } else {
+      // No scale of the first lobe removes it: its linear values at 0 are the nearest start.
+      for (const ParamSpec& p : lobes_[0]->parameters())
+        if (p.linear && p.name != "albedo") lambert.fixed.push_back({p.name, 0.0});
+      lambert.why = "second lobe switched off, the first's linear values at 0 (" + lobes_[0]->name() +
+                    "'s lobe does not vanish with them)";
+    }
+    nestings_.push_back(lambert);
+  }
+
+  std::array<const Model*, 2> lobes_;
+  std::array<std::vector<int>, 2> map_;  // component value index -> composite value index, -1 for albedo
+  std::string name_, summary_;
+  std::vector<ParamSpec> params_;
+  std::vector<Nesting> nestings_;
+  int num_flattened_ = 3;  // albedo's
+  bool weighted_ = false;
+  int weight_offset_ = -1;
+};
+
+}  // namespace
+
+std::unique_ptr<Model> make_two_lobes(const Model& first, const Model& second) {
+  return std::make_unique<TwoLobes>(first, second);
+}
+
+}  // namespace brdffit
