@@ -97,8 +97,10 @@ class TwoLobes final : public Model {
     }
     if (weighted_) {
       weight_offset_ = num_flattened_;
-      params_.push_back({std::string("weight") + kSuffix, 1, 0.0, 1.0, 0.5,
-                         "scale of the second lobe (0 switches it off)", Role::SpecularColour, /*linear=*/true});
+      // A colour: the fitter solves linear values per channel.
+      params_.push_back({std::string("weight") + kSuffix, 3, 0.0, 1.0, 0.5,
+                         "scale of the second lobe per channel (0 switches it off)", Role::SpecularColour,
+                         /*linear=*/true});
     }
     declare_nestings(switching_scale(first), second_scale);
   }
@@ -132,13 +134,13 @@ class TwoLobes final : public Model {
     for (int k = 0; k < 2; ++k) {
       const std::array<double, kMaxComponentValues> p = component_values(k, values);
       const Rgb<double> lobe = lobes_[k]->shade_with_jacobian(p.data(), l, v, lobe_jacobian.data());
-      const double w = weight(k, values);
+      const Rgb<double> w = weight(k, values);
       const int m = lobes_[k]->num_values();
-      total += w * lobe;
+      total += w.cwiseProduct(lobe);
       for (int c = 0; c < 3; ++c) {
         for (int i = 0; i < m; ++i)
-          if (map_[k][i] >= 0) jacobian[c * n + map_[k][i]] += w * lobe_jacobian[c * m + i];
-        if (k == 1 && weighted_) jacobian[c * n + weight_offset_] = lobe[c];
+          if (map_[k][i] >= 0) jacobian[c * n + map_[k][i]] += w[c] * lobe_jacobian[c * m + i];
+        if (k == 1 && weighted_) jacobian[c * n + weight_offset_ + c] = lobe[c];
       }
     }
     return total;
@@ -149,7 +151,7 @@ class TwoLobes final : public Model {
   }
 
  private:
-  // Albedo is the first parameter of the composite.
+  // The colour stored at values[0..2] (albedo is the composite's first parameter).
   static Rgb<double> colour_of(const double* values) { return Rgb<double>(values[0], values[1], values[2]); }
 
   // Component k's values: its own from the composite's, its albedo 0 (the lobe alone).
@@ -159,7 +161,9 @@ class TwoLobes final : public Model {
     return p;
   }
 
-  double weight(int k, const double* values) const { return k == 1 && weighted_ ? values[weight_offset_] : 1.0; }
+  Rgb<double> weight(int k, const double* values) const {
+    return k == 1 && weighted_ ? colour_of(values + weight_offset_) : Rgb<double>::Ones();
+  }
 
   // Σ_k w_k · lobe_k, with `eval(model, values)` evaluating a component.
   template <class Eval>
@@ -167,7 +171,7 @@ class TwoLobes final : public Model {
     Rgb<double> sum = Rgb<double>::Zero();
     for (int k = 0; k < 2; ++k) {
       const std::array<double, kMaxComponentValues> p = component_values(k, values);
-      sum += weight(k, values) * eval(*lobes_[k], p.data());
+      sum += weight(k, values).cwiseProduct(eval(*lobes_[k], p.data()));
     }
     return sum;
   }

@@ -2,15 +2,15 @@
 // models that are a lobe over the Lambert base albedo/π (ggx, cook-torrance, beckmann, ward,
 // ashikhmin-shirley, the anisotropic ones, ...). Users ask for "FIRST+SECOND", e.g. ggx+ggx.
 //
-//   f = albedo/π + lobe₁(values₁) + w · lobe₂(values₂)
+//   f = albedo/π + lobe₁(values₁) + w · lobe₂(values₂)        (per colour channel)
 //
 // where lobeₖ is the component's f with its albedo at 0. Parameters: the shared albedo, the
 // first component's other parameters under their own names, then the second's with the
 // suffix "_2" (roughness_2, f0_2, ...). The second lobe needs a scale that switches it off so
 // the composite contains the first model exactly (Nesting): its own `specular` where that
 // scale at 0 makes the lobe vanish (cook-torrance, ward, beckmann, ...); otherwise (ggx, whose
-// Schlick F leaves (1-l·h)^5 at f0 = 0) the composite adds w = weight_2 in [0, 1], and w is the
-// lobe's linear scale (the lobe's own linear values are then products with w, no longer linear).
+// Schlick F leaves (1-l·h)^5 at f0 = 0) the composite adds w = weight_2, a colour in [0, 1], and
+// w is the lobe's linear scale (the lobe's own linear values are then products with w, no longer linear).
 // Without weight_2, w = 1.
 //
 // Nestings: FIRST with the second lobe's scale at 0 (exact), and lambert with both lobes'

@@ -1,0 +1,110 @@
+// Test and bench helper: anisotropic reflectance tables made from an analytic model with known
+// values (random pairs as samples, CSV, and an RGL-format file written with
+// tensor_file_writer.h), and the comparison of a fitted tangent frame with the truth.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "brdffit/model.h"
+#include "brdffit/samples.h"
+#include "tensor_file_writer.h"
+
+namespace brdffit::test {
+
+// n samples of `model` at `values` on pairs of directions uniform over the hemisphere up to
+// max_angle_deg from the normal, each value multiplied by (1 + noise·N(0,1)), weight 1.
+inline SampleSet anisotropic_samples(const Model& model, const std::vector<double>& values, size_t n, double noise,
+                                     uint64_t seed, double max_angle_deg = 80.0) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  const double min_z = std::cos(max_angle_deg * kPi / 180.0);
+  auto direction = [&] {
+    const double z = min_z + (1.0 - min_z) * unit(rng), r = std::sqrt(1.0 - z * z), phi = 2 * kPi * unit(rng);
+    return Vec3(r * std::cos(phi), r * std::sin(phi), z);
+  };
+  SampleSet set;
+  set.source = "synthetic " + model.name();
+  set.weighting = "uniform";
+  for (size_t i = 0; i < n; ++i) {
+    const Vec3 l = direction(), v = direction();
+    Rgb<double> value = model.shade(values.data(), l, v);
+    for (int c = 0; c < 3; ++c) value[c] *= 1.0 + noise * gauss(rng);
+    set.samples.push_back({l, v, value, 1.0});
+  }
+  return set;
+}
+
+// The tensor-file fields of an anisotropic RGL BRDF that tabulates `model` at `values`. The
+// RGL evaluation is f = rgb(warped u)·ndf(u)/(4σ) with u the half vector's coordinates
+// (rgl.h); here the VNDF is uniform (its warp is the identity), σ = 1/4, the NDF table holds
+// the fast-varying part of the lobe, P(h) = f(h, h) (the half vector's peak value), on a fine
+// grid, and rgb the slowly varying f(l, v)/P(h) per incident direction. `resolution` scales
+// every grid.
+inline std::vector<TensorField> anisotropic_rgl_fields(const Model& model, const std::vector<double>& values,
+                                                       int resolution = 1) {
+  using Index = std::vector<uint64_t>;
+  const int n_phi_i = 12 * resolution + 1, n_theta_i = 20 * resolution, n_theta_m = 32 * resolution,
+            n_phi_m = 64 * resolution;
+  std::vector<float> phi_i, theta_i;
+  for (int i = 0; i < n_phi_i; ++i) phi_i.push_back(float(-kPi + 2 * kPi * i / (n_phi_i - 1)));
+  for (int i = 0; i < n_theta_i; ++i) theta_i.push_back(float(0.5 * kPi * i / (n_theta_i - 1)));
+  // Grid vertex -> direction: u_x = √(θ/(π/2)), u_y = (φ + π)/(2π), as the RGL reader maps them.
+  auto from_grid = [](uint64_t x, uint64_t nx, uint64_t y, uint64_t ny) {
+    const double ux = double(x) / (nx - 1), uy = double(y) / (ny - 1);
+    const double theta = ux * ux * kPi / 2, phi = 2 * kPi * uy - kPi;
+    return Vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+  };
+  // P(h): as fast-varying in h as the lobe's D(h), while f/P stays smooth and bounded (both
+  // include the Lambert term).
+  const int ndf_ny = 4 * n_phi_m, ndf_nx = 4 * n_theta_m;
+  auto peak = [&](const Vec3& h) {
+    const Rgb<double> f = *model.brdf(values.data(), h, h);
+    return std::max(f.mean(), 1e-6);
+  };
+  return {
+      bytes_field("description", "analytic " + model.name()),
+      float_values("phi_i", phi_i),
+      float_values("theta_i", theta_i),
+      float_field("ndf", {uint64_t(ndf_ny), uint64_t(ndf_nx)},
+                  [&](const Index& i) { return peak(from_grid(i[1], ndf_nx, i[0], ndf_ny)); }),
+      float_field("sigma", {2, 2}, [](const Index&) { return 0.25; }),
+      float_field("vndf", {uint64_t(n_phi_i), uint64_t(n_theta_i), 2, 2}, [](const Index&) { return 1.0; }),
+      float_field("luminance", {uint64_t(n_phi_i), uint64_t(n_theta_i), 2, 2}, [](const Index&) { return 1.0; }),
+      float_field("rgb", {uint64_t(n_phi_i), uint64_t(n_theta_i), 3, uint64_t(n_phi_m), uint64_t(n_theta_m)},
+                  [&](const Index& i) {
+                    const double th = theta_i[i[1]], ph = phi_i[i[0]];
+                    const Vec3 l(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
+                    const Vec3 h = from_grid(i[4], n_theta_m, i[3], n_phi_m);
+                    const Vec3 v = 2 * l.dot(h) * h - l;
+                    if (l.z() <= 1e-4 || v.z() <= 1e-4) return 0.0;
+                    return (*model.brdf(values.data(), l, v))[i[2]] / peak(h);
+                  }),
+      {"jacobian", kUInt8, {1}, std::string(1, '\x01')},
+  };
+}
+
+// A tangent frame as (α_x, α_y, φ₀ in degrees) in the one form where α_x ≤ α_y and
+// φ₀ ∈ [0°, 180°): a lobe is the same with φ₀ + 180°, and with φ₀ + 90° and its widths
+// exchanged (common.h).
+struct TangentFrame {
+  double along_x, along_y, phi0;
+};
+inline TangentFrame canonical_frame(double along_x, double along_y, double phi0) {
+  if (along_x > along_y) {
+    std::swap(along_x, along_y);
+    phi0 += 90.0;
+  }
+  return {along_x, along_y, phi0 - 180.0 * std::floor(phi0 / 180.0)};
+}
+// The difference of two φ₀ in degrees, modulo 180°.
+inline double angle_difference(double a, double b) {
+  const double d = std::fmod(std::fabs(a - b), 180.0);
+  return std::min(d, 180.0 - d);
+}
+
+}  // namespace brdffit::test
