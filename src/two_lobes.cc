@@ -89,7 +89,10 @@ class TwoLobes final : public Model {
         if (k == 1) {
           renamed.name += kSuffix;
           renamed.meaning = "second lobe: " + p.meaning;
-          if (weighted_) renamed.linear = false;  // multiplied by weight_2
+          if (weighted_ && p.linear) {
+            renamed.meaning += std::string(", times weight") + kSuffix;
+            scaled_linear_.push_back({lobe.offset_of(p.name), num_flattened_});
+          }
         }
         params_.push_back(renamed);
         num_flattened_ += p.channels;
@@ -99,8 +102,9 @@ class TwoLobes final : public Model {
       weight_offset_ = num_flattened_;
       // A colour: the fitter solves linear values per channel.
       params_.push_back({std::string("weight") + kSuffix, 3, 0.0, 1.0, 0.5,
-                         "scale of the second lobe per channel (0 switches it off)", Role::SpecularColour,
-                         /*linear=*/true});
+                         "second lobe's scale where its linear values are 0 (ggx: Schlick's reflectance at grazing "
+                         "incidence); 0 with them switches it off",
+                         Role::SpecularColour, /*linear=*/true});
     }
     declare_nestings(switching_scale(first), second_scale);
   }
@@ -114,12 +118,12 @@ class TwoLobes final : public Model {
 
   Rgb<double> shade(const double* values, const Vec3& l, const Vec3& v) const override {
     if (l.z() <= 0.0) return Rgb<double>::Zero();
-    return combine(values, [&](const Model& lobe, const double* p) { return lobe.shade(p, l, v); }) +
+    return lobes(values, nullptr, [&](const Model& m, const double* p, double*) { return m.shade(p, l, v); }) +
            colour_of(values) * (kInvPi * l.z());
   }
 
   std::optional<Rgb<double>> brdf(const double* values, const Vec3& l, const Vec3& v) const override {
-    return combine(values, [&](const Model& lobe, const double* p) { return *lobe.brdf(p, l, v); }) +
+    return lobes(values, nullptr, [&](const Model& m, const double* p, double*) { return *m.brdf(p, l, v); }) +
            colour_of(values) * kInvPi;
   }
 
@@ -128,22 +132,10 @@ class TwoLobes final : public Model {
     const int n = num_values();
     std::fill_n(jacobian, 3 * n, 0.0);
     if (l.z() <= 0.0) return Rgb<double>::Zero();
-    Rgb<double> total = colour_of(values) * (kInvPi * l.z());
     for (int c = 0; c < 3; ++c) jacobian[c * n + c] = kInvPi * l.z();  // albedo occupies values 0..2
-    std::array<double, 3 * kMaxComponentValues> lobe_jacobian;
-    for (int k = 0; k < 2; ++k) {
-      const std::array<double, kMaxComponentValues> p = component_values(k, values);
-      const Rgb<double> lobe = lobes_[k]->shade_with_jacobian(p.data(), l, v, lobe_jacobian.data());
-      const Rgb<double> w = weight(k, values);
-      const int m = lobes_[k]->num_values();
-      total += w.cwiseProduct(lobe);
-      for (int c = 0; c < 3; ++c) {
-        for (int i = 0; i < m; ++i)
-          if (map_[k][i] >= 0) jacobian[c * n + map_[k][i]] += w[c] * lobe_jacobian[c * m + i];
-        if (k == 1 && weighted_) jacobian[c * n + weight_offset_ + c] = lobe[c];
-      }
-    }
-    return total;
+    return lobes(values, jacobian,
+                 [&](const Model& m, const double* p, double* j) { return m.shade_with_jacobian(p, l, v, j); }) +
+           colour_of(values) * (kInvPi * l.z());
   }
 
   ceres::CostFunction* new_batch_cost(const ResidualBatch& batch) const override {
@@ -151,38 +143,94 @@ class TwoLobes final : public Model {
   }
 
  private:
+  using Values = std::array<double, kMaxComponentValues>;
+  using Jacobian = std::array<double, 3 * kMaxComponentValues>;
+
   // The colour stored at values[0..2] (albedo is the composite's first parameter).
   static Rgb<double> colour_of(const double* values) { return Rgb<double>(values[0], values[1], values[2]); }
 
-  // Component k's values: its own from the composite's, its albedo 0 (the lobe alone).
-  std::array<double, kMaxComponentValues> component_values(int k, const double* values) const {
-    std::array<double, kMaxComponentValues> p{};
+  // Component k's values taken from the composite's, with its albedo at 0 (the lobe alone).
+  Values component_values(int k, const double* values) const {
+    Values p{};
     for (size_t i = 0; i < map_[k].size(); ++i) p[i] = map_[k][i] >= 0 ? values[map_[k][i]] : 0.0;
     return p;
   }
 
-  Rgb<double> weight(int k, const double* values) const {
-    return k == 1 && weighted_ ? colour_of(values + weight_offset_) : Rgb<double>::Ones();
+  // Adds scale_c · (component jacobian) to the composite's, for component k's values other than
+  // albedo and, for the weighted lobe, its linear ones (the composite's own values there).
+  void add_jacobian(int k, const Jacobian& component, const Rgb<double>& scale, double* jacobian) const {
+    const int n = num_values(), m = lobes_[k]->num_values();
+    for (int c = 0; c < 3; ++c)
+      for (int i = 0; i < m; ++i)
+        if (map_[k][i] >= 0 && !(k == 1 && is_scaled_linear(i))) jacobian[c * n + map_[k][i]] += scale[c] * component[c * m + i];
   }
 
-  // Σ_k w_k · lobe_k, with `eval(model, values)` evaluating a component.
+  bool is_scaled_linear(int component_index) const {
+    for (const auto& [from, to] : scaled_linear_)
+      if (component_index >= from && component_index < from + 3) return true;
+    return false;
+  }
+
+  // The sum of both lobes; `eval(model, component values, component jacobian or null)`; adds
+  // the derivatives to `jacobian` (3 x num_values()) when it is not null.
+  //
+  // The weighted second lobe is affine in its linear values x (colours): L(x) = L(0) + Σ_j x_j
+  // (L(e_j) - L(0)), e_j = 1 in x_j, 0 elsewhere. Scaled by w it is w·L(0) + Σ_j (w x_j)(L(e_j) - L(0)),
+  // and the composite stores p_j = w x_j: affine in w and every p_j jointly, so the fitter solves
+  // them all exactly, and w = p = 0 switches the lobe off.
   template <class Eval>
-  Rgb<double> combine(const double* values, Eval&& eval) const {
-    Rgb<double> sum = Rgb<double>::Zero();
-    for (int k = 0; k < 2; ++k) {
-      const std::array<double, kMaxComponentValues> p = component_values(k, values);
-      sum += weight(k, values).cwiseProduct(eval(*lobes_[k], p.data()));
+  Rgb<double> lobes(const double* values, double* jacobian, Eval&& eval) const {
+    Jacobian component_jacobian, base_jacobian;
+    double* j = jacobian ? component_jacobian.data() : nullptr;
+    Values p = component_values(0, values);
+    Rgb<double> sum = eval(*lobes_[0], p.data(), j);
+    if (jacobian) add_jacobian(0, component_jacobian, Rgb<double>::Ones(), jacobian);
+    p = component_values(1, values);
+    if (!weighted_) {
+      sum += eval(*lobes_[1], p.data(), j);
+      if (jacobian) add_jacobian(1, component_jacobian, Rgb<double>::Ones(), jacobian);
+      return sum;
+    }
+    const int n = num_values(), m = lobes_[1]->num_values();
+    for (const auto& [from, to] : scaled_linear_) std::fill_n(p.begin() + from, 3, 0.0);
+    const Rgb<double> w = colour_of(values + weight_offset_);
+    const Rgb<double> base = eval(*lobes_[1], p.data(), jacobian ? base_jacobian.data() : nullptr);
+    sum += w.cwiseProduct(base);
+    if (jacobian) {
+      add_jacobian(1, base_jacobian, w, jacobian);
+      for (int c = 0; c < 3; ++c) jacobian[c * n + weight_offset_ + c] = base[c];
+    }
+    for (const auto& [from, to] : scaled_linear_) {
+      std::fill_n(p.begin() + from, 3, 1.0);
+      const Rgb<double> difference = eval(*lobes_[1], p.data(), j) - base;
+      std::fill_n(p.begin() + from, 3, 0.0);
+      const Rgb<double> scaled = colour_of(values + to);
+      sum += scaled.cwiseProduct(difference);
+      if (!jacobian) continue;
+      for (int i = 0; i < 3 * m; ++i) component_jacobian[i] -= base_jacobian[i];
+      add_jacobian(1, component_jacobian, scaled, jacobian);
+      for (int c = 0; c < 3; ++c) jacobian[c * n + to + c] = difference[c];
     }
     return sum;
   }
 
   void declare_nestings(const ParamSpec* first_scale, const ParamSpec* second_scale) {
-    const std::string second_off = weighted_ ? std::string("weight") + kSuffix : second_scale->name + kSuffix;
-    Nesting first{lobes_[0]->name(), {}, {{second_off, 0.0}}, true, "the second lobe switched off (" + second_off + " = 0)"};
+    // What switches the second lobe off: its specular scale, or the weight with the values it scales.
+    std::vector<std::pair<std::string, double>> second_off;
+    if (weighted_) {
+      second_off.push_back({std::string("weight") + kSuffix, 0.0});
+      for (const auto& [from, to] : scaled_linear_)
+        for (const ParamSpec& p : params_)
+          if (offset_of(p.name) == to) second_off.push_back({p.name, 0.0});
+    } else {
+      second_off.push_back({second_scale->name + kSuffix, 0.0});
+    }
+    std::string off_names;
+    for (const auto& [name, value] : second_off) off_names += (off_names.empty() ? "" : ", ") + name;
+    Nesting first{lobes_[0]->name(), {}, second_off, true, "the second lobe switched off (" + off_names + " = 0)"};
     for (const ParamSpec& p : lobes_[0]->parameters()) first.copies.push_back({p.name, p.name});
     nestings_.push_back(first);
-    Nesting lambert{"lambert", {{"albedo", "albedo"}}, {{second_off, 0.0}}, first_scale != nullptr,
-                    "both lobes switched off"};
+    Nesting lambert{"lambert", {{"albedo", "albedo"}}, second_off, first_scale != nullptr, "both lobes switched off"};
     if (first_scale) {
       lambert.fixed.push_back({first_scale->name, 0.0});
     } else {
@@ -197,6 +245,8 @@ class TwoLobes final : public Model {
 
   std::array<const Model*, 2> lobes_;
   std::array<std::vector<int>, 2> map_;  // component value index -> composite value index, -1 for albedo
+  // Weighted second lobe: its linear colours, as (offset in the component, offset in the composite).
+  std::vector<std::pair<int, int>> scaled_linear_;
   std::string name_, summary_;
   std::vector<ParamSpec> params_;
   std::vector<Nesting> nestings_;

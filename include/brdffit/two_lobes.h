@@ -8,10 +8,12 @@
 // first component's other parameters under their own names, then the second's with the
 // suffix "_2" (roughness_2, f0_2, ...). The second lobe needs a scale that switches it off so
 // the composite contains the first model exactly (Nesting): its own `specular` where that
-// scale at 0 makes the lobe vanish (cook-torrance, ward, beckmann, ...); otherwise (ggx, whose
-// Schlick F leaves (1-l·h)^5 at f0 = 0) the composite adds w = weight_2, a colour in [0, 1], and
-// w is the lobe's linear scale (the lobe's own linear values are then products with w, no longer linear).
-// Without weight_2, w = 1.
+// scale at 0 makes the lobe vanish (cook-torrance, ward, beckmann, ...). Otherwise (ggx, whose
+// Schlick F leaves (1-l·h)^5 at f0 = 0) the composite adds w = weight_2, a colour in [0, 1],
+// and stores the lobe's linear values multiplied by w, so that every one stays linear: for
+// ggx, f0_2 = w·f0 and the second lobe's Schlick F runs from f0_2 at normal incidence to
+// weight_2 at grazing incidence (Schlick with a separate F90), both in [0, 1]. Without
+// weight_2, w = 1.
 //
 // Nestings: FIRST with the second lobe's scale at 0 (exact), and lambert with both lobes'
 // scales at 0 (exact when the first lobe's scale switches it off).
