@@ -88,18 +88,36 @@ inline std::vector<TensorField> anisotropic_rgl_fields(const Model& model, const
   };
 }
 
-// A tangent frame as (α_x, α_y, φ₀ in degrees) in the one form where α_x ≤ α_y and
-// φ₀ ∈ [0°, 180°): a lobe is the same with φ₀ + 180°, and with φ₀ + 90° and its widths
-// exchanged (common.h).
+// A tangent frame as (α_x, α_y, φ₀ in degrees). A lobe is the same with φ₀ + 180°, and with
+// φ₀ + 90° and its widths exchanged (common.h).
 struct TangentFrame {
   double along_x, along_y, phi0;
 };
+// The frame in the models' range φ₀ ∈ [0°, 90°) for a lobe turned by any angle.
+inline TangentFrame model_frame(double along_x, double along_y, double phi0) {
+  phi0 -= 180.0 * std::floor(phi0 / 180.0);
+  if (phi0 >= 90.0) return {along_y, along_x, phi0 - 90.0};
+  return {along_x, along_y, phi0};
+}
+// The one form where α_x ≤ α_y and φ₀ ∈ [0°, 180°), to compare frames.
 inline TangentFrame canonical_frame(double along_x, double along_y, double phi0) {
   if (along_x > along_y) {
     std::swap(along_x, along_y);
     phi0 += 90.0;
   }
   return {along_x, along_y, phi0 - 180.0 * std::floor(phi0 / 180.0)};
+}
+// The values of `model` (an anisotropic model: its last three values are the widths and φ₀)
+// from `params` with the lobe turned by rotation_deg (any angle).
+inline std::vector<double> turned_values(const Model& model, const std::vector<std::string>& params,
+                                         const std::string& width_x, const std::string& width_y, double rotation_deg) {
+  std::vector<double> values = parameter_values(model, params);
+  const int x = model.offset_of(width_x), y = model.offset_of(width_y), phi0 = model.offset_of("phi0");
+  const TangentFrame frame = model_frame(values[x], values[y], rotation_deg);
+  values[x] = frame.along_x;
+  values[y] = frame.along_y;
+  values[phi0] = frame.phi0;
+  return values;
 }
 // The difference of two φ₀ in degrees, modulo 180°.
 inline double angle_difference(double a, double b) {

@@ -47,9 +47,12 @@ TEST(GgxAniso, HandValues) {
   };
   const std::vector<std::string> params = {"albedo=0", "f0=0.3", "alpha_x=0.2", "alpha_y=0.5", "phi0=30"};
   EXPECT_NEAR(shade1("ggx-aniso", params, kNormal, at_60(30)), expected(ax, ay), 1e-12);
-  // Along the bitangent (azimuth 120°), and the same lobe turned by φ₀ + 180°.
+  // Along the bitangent (azimuth 120°), and along the tangent's opposite (azimuth 210°).
   EXPECT_NEAR(shade1("ggx-aniso", params, kNormal, at_60(120)), expected(ay, ax), 1e-12);
   EXPECT_NEAR(shade1("ggx-aniso", params, kNormal, at_60(210)), expected(ax, ay), 1e-12);
+  // φ₀ = 90° with the widths exchanged: v along the table's x axis is along the lobe's y axis.
+  EXPECT_NEAR(shade1("ggx-aniso", {"albedo=0", "f0=0.3", "alpha_x=0.5", "alpha_y=0.2", "phi0=90"}, kNormal, at_60(0)),
+              expected(ax, ay), 1e-12);
 }
 
 TEST(WardAniso, HandValues) {
@@ -101,7 +104,7 @@ TEST(Nestings, ExactNestingsReproduceTheInnerModel) {
         const std::vector<double> inner_values = test::random_values(*inner, rng);
         std::vector<double> values = embed_values(*outer, nesting, *inner, inner_values);
         const int phi0 = outer->offset_of("phi0");
-        if (phi0 >= 0) values[phi0] = std::uniform_real_distribution<double>(0, 180)(rng);
+        if (phi0 >= 0) values[phi0] = std::uniform_real_distribution<double>(0, 90)(rng);
         const Vec3 l = test::random_upper_direction(rng), v = test::random_upper_direction(rng);
         const Rgb<double> expected = inner->shade(inner_values.data(), l, v);
         const Rgb<double> got = outer->shade(values.data(), l, v);
@@ -186,18 +189,17 @@ TEST(AnisotropicFit, RecoversWidthsAndRotationFromNoisyCsv) {
   struct Case {
     std::string model;
     std::vector<std::string> params;
+    std::string width_x, width_y;
   };
   const std::vector<Case> cases = {
-      {"ggx-aniso", {"albedo=0.1,0.2,0.3", "f0=0.6,0.5,0.4", "alpha_x=0.08", "alpha_y=0.3"}},
-      {"ward-aniso", {"albedo=0.2", "specular=0.3", "alpha_x=0.25", "alpha_y=0.1"}},
-      {"ashikhmin-shirley-aniso", {"albedo=0.15", "specular=0.8", "f0=0.3", "n_u=20", "n_v=300"}}};
+      {"ggx-aniso", {"albedo=0.1,0.2,0.3", "f0=0.6,0.5,0.4", "alpha_x=0.08", "alpha_y=0.3"}, "alpha_x", "alpha_y"},
+      {"ward-aniso", {"albedo=0.2", "specular=0.3", "alpha_x=0.25", "alpha_y=0.1"}, "alpha_x", "alpha_y"},
+      {"ashikhmin-shirley-aniso", {"albedo=0.15", "specular=0.8", "f0=0.3", "n_u=20", "n_v=300"}, "n_u", "n_v"}};
   int k = 0;
   for (const Case& c : cases)
     for (double rotation : {0.0, 37.0, 122.0}) {
       const Model& model = *find_model(c.model);
-      std::vector<std::string> params = c.params;
-      params.push_back("phi0=" + std::to_string(rotation));
-      const std::vector<double> truth = parameter_values(model, params);
+      const std::vector<double> truth = test::turned_values(model, c.params, c.width_x, c.width_y, rotation);
       const SampleSet samples = test::anisotropic_samples(model, truth, 2000, 0.02, ++k);
       SampleSet csv = parse_csv_samples(format_csv_samples(samples), c.model + ".csv");
       ASSERT_EQ(csv.size(), samples.size());
@@ -212,8 +214,8 @@ TEST(AnisotropicFit, RecoversWidthsAndRotationFromNoisyCsv) {
 TEST(AnisotropicFit, RecoversTheFrameFromAnAnisotropicRglFile) {
   const Model& model = *find_model("ggx-aniso");
   for (double rotation : {20.0, 75.0, 150.0}) {
-    const std::vector<double> truth = parameter_values(
-        model, {"albedo=0.1", "f0=0.5", "alpha_x=0.15", "alpha_y=0.4", "phi0=" + std::to_string(rotation)});
+    const std::vector<double> truth =
+        test::turned_values(model, {"albedo=0.1", "f0=0.5", "alpha_x=0.15", "alpha_y=0.4"}, "alpha_x", "alpha_y", rotation);
     const RglBrdf table = RglBrdf::parse(test::tensor_file_bytes(test::anisotropic_rgl_fields(model, truth)),
                                          "ggx-aniso-" + std::to_string(int(rotation)) + ".bsdf");
     ASSERT_FALSE(table.isotropic());

@@ -35,12 +35,15 @@ T beckmann_ndf(double cos_theta_h, const T& m) {
 }
 
 // The rotation φ₀ of an anisotropic lobe's tangent frame about the normal, in degrees: the
-// angle from the table's x axis to the lobe's x (α_x) axis, counter-clockwise seen from above.
-// A lobe is unchanged by φ₀ + 180°, and by φ₀ + 90° with its x and y widths exchanged, so
-// [0°, 180°] holds every lobe, most of them twice; the fitter may stop at either.
+// angle from the table's x axis to the lobe's x axis, counter-clockwise seen from above. A lobe
+// is unchanged by φ₀ + 180°, and by φ₀ + 90° with its x and y widths exchanged, so [0°, 90°]
+// holds every lobe once (a lobe turned by 120° is found at 30° with its widths exchanged) and
+// fits of the same data agree.
 inline ParamSpec tangent_rotation_param() {
-  return {"phi0", 1, 0.0, 180.0, 0.0,
-          "rotation of the lobe's tangent (x) axis about the normal from the table's x axis, in degrees", Role::Shape};
+  return {"phi0", 1, 0.0, 90.0, 30.0,
+          "rotation of the lobe's x axis about the normal from the table's x axis, in degrees (x, y widths "
+          "exchanged: +90°)",
+          Role::Shape};
 }
 
 // The components of a direction d along the tangent frame turned by phi0_degrees about the normal.
