@@ -44,20 +44,12 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads, "Threads (0: all cores)");
   CLI11_PARSE(app, argc, argv);
   try {
-    struct Case {
-      std::string model;
-      std::vector<std::string> params;
-      std::string width_x, width_y;
-    };
-    const std::vector<Case> cases = {
-        {"ggx-aniso", {"albedo=0.1,0.2,0.3", "f0=0.6,0.5,0.4", "alpha_x=0.08", "alpha_y=0.3"}, "alpha_x", "alpha_y"},
-        {"ward-aniso", {"albedo=0.2", "specular=0.3", "alpha_x=0.25", "alpha_y=0.1"}, "alpha_x", "alpha_y"},
-        {"ashikhmin-shirley-aniso", {"albedo=0.15", "specular=0.8", "f0=0.3", "n_u=20", "n_v=300"}, "n_u", "n_v"}};
+    const std::vector<test::AnisotropicCase> cases = test::anisotropic_cases();
     fmt::print("{:<24} {:<22} {:>8} {:>6}  {:>8} {:>8} {:>7}  {:>8} {:>8} {:>7}  {:>6}\n", "model", "table", "samples",
                "turned", "width x", "width y", "φ₀ fit", "err x", "err y", "err φ₀", "s");
     fmt::print("(widths: α_x, α_y, or n_u, n_v; canonical form: width x ≤ width y, φ₀ mod 180°)\n");
     uint64_t seed = 0;
-    for (const Case& c : cases)
+    for (const test::AnisotropicCase& c : cases)
       for (double rotation : {0.0, 30.0, 60.0, 90.0, 135.0}) {
         const Model& model = *find_model(c.model);
         const std::vector<double> truth = test::turned_values(model, c.params, c.width_x, c.width_y, rotation);

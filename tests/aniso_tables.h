@@ -119,6 +119,18 @@ inline std::vector<double> turned_values(const Model& model, const std::vector<s
   values[phi0] = frame.phi0;
   return values;
 }
+// One anisotropic lobe per model, with distinct widths, for recovery tests and benches.
+struct AnisotropicCase {
+  std::string model;
+  std::vector<std::string> params;  // all but φ₀
+  std::string width_x, width_y;     // the names of its two widths
+};
+inline std::vector<AnisotropicCase> anisotropic_cases() {
+  return {{"ggx-aniso", {"albedo=0.1,0.2,0.3", "f0=0.6,0.5,0.4", "alpha_x=0.08", "alpha_y=0.3"}, "alpha_x", "alpha_y"},
+          {"ward-aniso", {"albedo=0.2", "specular=0.3", "alpha_x=0.25", "alpha_y=0.1"}, "alpha_x", "alpha_y"},
+          {"ashikhmin-shirley-aniso", {"albedo=0.15", "specular=0.8", "f0=0.3", "n_u=20", "n_v=300"}, "n_u", "n_v"}};
+}
+
 // The difference of two φ₀ in degrees, modulo 180°.
 inline double angle_difference(double a, double b) {
   const double d = std::fmod(std::fabs(a - b), 180.0);

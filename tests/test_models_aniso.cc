@@ -186,17 +186,9 @@ void expect_frame_recovered(const Model& model, const SampleSet& data, const tes
 // Noisy samples at several rotations, read back through CSV: the three anisotropic models
 // recover their frame.
 TEST(AnisotropicFit, RecoversWidthsAndRotationFromNoisyCsv) {
-  struct Case {
-    std::string model;
-    std::vector<std::string> params;
-    std::string width_x, width_y;
-  };
-  const std::vector<Case> cases = {
-      {"ggx-aniso", {"albedo=0.1,0.2,0.3", "f0=0.6,0.5,0.4", "alpha_x=0.08", "alpha_y=0.3"}, "alpha_x", "alpha_y"},
-      {"ward-aniso", {"albedo=0.2", "specular=0.3", "alpha_x=0.25", "alpha_y=0.1"}, "alpha_x", "alpha_y"},
-      {"ashikhmin-shirley-aniso", {"albedo=0.15", "specular=0.8", "f0=0.3", "n_u=20", "n_v=300"}, "n_u", "n_v"}};
+  const std::vector<test::AnisotropicCase> cases = test::anisotropic_cases();
   int k = 0;
-  for (const Case& c : cases)
+  for (const test::AnisotropicCase& c : cases)
     for (double rotation : {0.0, 37.0, 122.0}) {
       const Model& model = *find_model(c.model);
       const std::vector<double> truth = test::turned_values(model, c.params, c.width_x, c.width_y, rotation);
