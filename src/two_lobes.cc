@@ -90,6 +90,8 @@ class TwoLobes final : public Model {
           renamed.name += kSuffix;
           renamed.meaning = "second lobe: " + p.meaning;
           if (weighted_ && p.linear) {
+            if (p.channels != 3)  // the fitter solves linear values per channel: every one is a colour
+              fail("model {}: {}'s linear parameter {} is not a colour", name_, lobe.name(), p.name);
             renamed.meaning += std::string(", times weight") + kSuffix;
             scaled_linear_.push_back({lobe.offset_of(p.name), num_flattened_});
           }
