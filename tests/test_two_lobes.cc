@@ -4,9 +4,15 @@
 #include <gtest/gtest.h>
 
 #include "aniso_tables.h"
+#include <unistd.h>
+
+#include <filesystem>
+
+#include "brdffit/csv_samples.h"
 #include "brdffit/error.h"
 #include "brdffit/fit.h"
 #include "brdffit/fit_residual.h"
+#include "brdffit/io.h"
 #include "brdffit/model.h"
 #include "brdffit/model_adapter.h"
 #include "brdffit/models/ggx.h"
@@ -161,6 +167,27 @@ TEST(TwoLobes, ErrorNeverAboveTheOneLobeFit) {
       }
     }
   }
+}
+
+// The command line: `models` says how to ask for pairs, `fit` fits one, an unsuitable pair is
+// an error naming the component.
+TEST(TwoLobes, CommandLine) {
+  EXPECT_NE(test::run_cli("models").output.find("FIRST+SECOND"), std::string::npos);
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("brdffit-two-lobes-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const Model& ct2 = *find_model("cook-torrance+cook-torrance");
+  const std::vector<double> truth =
+      parameter_values(ct2, {"albedo=0.2", "specular=0.3", "m=0.4", "specular_2=0.2", "m_2=0.08"});
+  const std::string csv = (dir / "two.csv").string();
+  write_file_atomic(csv, format_csv_samples(test::anisotropic_samples(ct2, truth, 800, 0.0, 9)));
+  const test::CommandResult fit = test::run_cli("fit " + csv + " --models cook-torrance+cook-torrance --threads 1");
+  EXPECT_EQ(fit.exit_code, 0) << fit.output;
+  EXPECT_NE(fit.output.find("m_2="), std::string::npos) << fit.output;
+  test::expect_cli_errors({{"fit " + csv + " --models lambert+ggx", "lambert is not a specular lobe"},
+                           {"fit " + csv + " --models ggx+nosuch", "FIRST+SECOND"}},
+                          (dir / "none").string());
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
