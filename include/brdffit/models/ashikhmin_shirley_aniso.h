@@ -46,7 +46,7 @@ struct AshikhminShirleyAniso {
              {{"phi0", 0.0}},
              true,
              "equal exponents n_u = n_v = n"},
-            {"lambert", {{"albedo", "albedo"}}, {{"specular", 0.0}}, true, "specular = 0"}};
+            lambert_under_lobe()};
   }
 
   template <class T>

@@ -15,8 +15,8 @@
 // whose α = roughness²). With α_x = α_y = roughness² the model is `ggx` exactly, whatever phi0:
 // D, α_d and so G reduce to ggx.h's expressions.
 //
-// Contains (nestings): `ggx` (α_x = α_y = roughness², exact) and `lambert` (f0 = 0; not exact:
-// Schlick's F keeps (1-l·h)^5 at f0 = 0, so the lobe does not vanish).
+// Contains (nestings): `ggx` (α_x = α_y = roughness², exact) and `lambert` (f0 = 0, widths 1;
+// not exact: Schlick's F keeps (1-l·h)^5 at f0 = 0, so the lobe does not vanish).
 // Not declared energy conserving: the lobe alone reflects at most 1 (D is normalised, F, G ≤ 1),
 // but albedo = 1 with the (1-l·h)^5 term that f0 = 0 leaves reflects up to 1.05 at θo = 80°
 // for α_x = 1e-4, α_y = 1 (1.02 at most for the isotropic `ggx`).
@@ -51,8 +51,8 @@ struct GgxAniso {
              {{"phi0", 0.0}},
              true,
              "equal widths α_x = α_y = roughness²"},
-            {"lambert", {{"albedo", "albedo"}}, {{"f0", 0.0}}, false,
-             "f0 = 0 (Schlick's (1-l·h)^5 term remains)"}};
+            {"lambert", {{"albedo", "albedo"}}, {{"f0", 0.0}, {"alpha_x", 1.0}, {"alpha_y", 1.0}}, false,
+             "lambert, approximately: f0 = 0 leaves Schlick's (1-l·h)^5 grazing term; widths 1 spread it"}};
   }
 
   template <class T>

@@ -41,7 +41,7 @@ struct WardAniso {
              {{"phi0", 0.0}},
              true,
              "equal widths α_x = α_y = alpha"},
-            {"lambert", {{"albedo", "albedo"}}, {{"specular", 0.0}}, true, "specular = 0"}};
+            lambert_under_lobe()};
   }
 
   template <class T>
