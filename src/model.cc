@@ -1,6 +1,8 @@
 #include "brdffit/model.h"
 
 #include <algorithm>
+#include <map>
+#include <mutex>
 #include <cmath>
 #include <numeric>
 #include <sstream>
@@ -9,6 +11,7 @@
 #include "brdffit/fit.h"
 #include "brdffit/metric.h"
 #include "brdffit/param.h"
+#include "brdffit/two_lobes.h"
 
 namespace brdffit {
 
@@ -80,10 +83,32 @@ std::vector<double> embed_values(const Model& outer, const Nesting& nesting, con
   return values;
 }
 
-const Model* find_model(const std::string& name) {
+namespace {
+const Model* find_registered(const std::string& name) {
   for (const auto& m : all_models())
     if (m->name() == name) return m.get();
   return nullptr;
+}
+
+// "FIRST+SECOND": built on first use and kept for the program's lifetime (callers hold
+// pointers), so each pair is built once.
+const Model* find_two_lobes(const std::string& name) {
+  const size_t plus = name.find(kLobeSeparator);
+  const Model* first = find_registered(name.substr(0, plus));
+  const Model* second = find_registered(name.substr(plus + 1));
+  if (!first || !second) return nullptr;
+  static std::mutex mutex;
+  static std::map<std::string, std::unique_ptr<Model>> built;
+  const std::lock_guard<std::mutex> lock(mutex);
+  std::unique_ptr<Model>& model = built[name];
+  if (!model) model = make_two_lobes(*first, *second);
+  return model.get();
+}
+}  // namespace
+
+const Model* find_model(const std::string& name) {
+  if (name.find(kLobeSeparator) != std::string::npos) return find_two_lobes(name);
+  return find_registered(name);
 }
 
 std::string model_names() {
@@ -184,7 +209,9 @@ std::vector<const Model*> parse_model_list(const std::string& list) {
   for (std::string name; std::getline(stream, name, ',');) {
     if (name.empty()) continue;
     const Model* m = find_model(name);
-    if (!m) fail("--models: unknown model '{}' (known: {})", name, model_names());
+    if (!m)
+      fail("--models: unknown model '{}' (known: {}; two lobes over one Lambert base: FIRST+SECOND, e.g. ggx+ggx)",
+           name, model_names());
     if (std::find(models.begin(), models.end(), m) == models.end()) models.push_back(m);
   }
   if (models.empty()) fail("--models: no model named");

@@ -1,6 +1,7 @@
 // The list of models. Adding a model: write include/brdffit/models/<name>.h and add one line here.
 #include "brdffit/model_adapter.h"
 #include "brdffit/models/ashikhmin_shirley.h"
+#include "brdffit/models/ashikhmin_shirley_aniso.h"
 #include "brdffit/models/banded.h"
 #include "brdffit/models/beckmann.h"
 #include "brdffit/models/blinn_phong.h"
@@ -9,6 +10,7 @@
 #include "brdffit/models/ggx.h"
 #include "brdffit/models/gltf.h"
 #include "brdffit/models/gltf_specular.h"
+#include "brdffit/models/ggx_aniso.h"
 #include "brdffit/models/half_lambert.h"
 #include "brdffit/models/lafortune.h"
 #include "brdffit/models/lambert.h"
@@ -24,6 +26,7 @@
 #include "brdffit/models/sgd.h"
 #include "brdffit/models/toon.h"
 #include "brdffit/models/ward.h"
+#include "brdffit/models/ward_aniso.h"
 #include "brdffit/models/wrap.h"
 
 namespace brdffit {
@@ -67,6 +70,10 @@ const std::vector<std::unique_ptr<Model>>& all_models() {
     add<models::GltfSpecular>(list);
     add<models::OpenPbr>(list);
     add<models::Principled>(list);
+    // Anisotropic (brushed metals, satins): each with its tangent frame's rotation phi0.
+    add<models::GgxAniso>(list);
+    add<models::WardAniso>(list);
+    add<models::AshikhminShirleyAniso>(list);
     return list;
   }();
   return models;

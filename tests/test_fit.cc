@@ -29,12 +29,14 @@ SampleSet synthetic(const Model& model, const std::vector<double>& values, size_
   return set;
 }
 
-// Values a user would plausibly fit: the middle of each range, varied per channel.
+// Values a user would plausibly fit: the middle of each range, varied per channel, and from
+// one parameter to the next so that paired widths (anisotropic α_x, α_y) differ.
 std::vector<double> truth_for(const Model& model) {
   std::vector<double> values;
+  int index = 0;
   for (const ParamSpec& p : model.parameters())
-    for (int c = 0; c < p.channels; ++c) {
-      const double t = 0.35 + 0.15 * c;  // distinct colours per channel
+    for (int c = 0, k = index++; c < p.channels; ++c) {
+      const double t = 0.35 + 0.15 * c + (p.channels == 1 && k % 2 ? 0.1 : 0.0);  // distinct colours per channel
       double x = p.spacing == Spacing::Log ? p.lower * std::pow(p.upper / p.lower, t) : p.lower + t * (p.upper - p.lower);
       if (p.integer) x = std::round(x);
       values.push_back(x);

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "brdffit/metric.h"
+#include "brdffit/model.h"
 #include "brdffit/model_eval.h"
 #include "brdffit/samples.h"
 
@@ -55,6 +56,55 @@ inline void robustify(const ceres::LossFunction* loss, double r, double& r_out, 
   const double root = std::sqrt(rho[0]);
   r_out = std::copysign(root, r);
   scale = root > 1e-150 ? rho[1] * std::fabs(r) / root : std::sqrt(rho[1]);
+}
+
+// The cost-only evaluation shared by the batch costs: residuals 0 but the last, √(Σ r²).
+template <class Shade>
+bool evaluate_cost_only(const ResidualBatch& batch, int num_free, Shade&& shade, double* residuals) {
+  double rr = 0.0;
+  for (size_t i = 0; i < batch.count; ++i) {
+    const Sample& s = batch.samples[i];
+    const Rgb<double> predicted = shade(s);
+    const double sqrt_w = std::sqrt(metric_weight(batch.metric, s.weight));
+    for (int c = 0; c < 3; ++c) {
+      if (!batch.channels[c]) continue;
+      double value, scale;
+      robustify(batch.loss, metric_residual(batch.metric, predicted[c], s.value[c]) * sqrt_w, value, scale);
+      rr += value * value;
+    }
+  }
+  for (int k = 0; k < num_free; ++k) residuals[k] = 0.0;
+  residuals[num_free] = std::sqrt(rr);
+  return std::isfinite(rr);
+}
+
+// Writes y, e and the (F+1) x F row-major Jacobian (R; 0) for the free values' JᵀJ (F x F)
+// and Jᵀr.
+inline void compress(const Eigen::MatrixXd& jtj, const Eigen::VectorXd& jtr, double rr, double* residuals,
+                     double* jacobian) {
+  const int F = static_cast<int>(jtr.size());
+  // Any square root of JᵀJ will do. With S = diag(JᵀJ)^-½ and S·JᵀJ·S = V Λ Vᵀ:
+  // R = Λ^½ Vᵀ S⁻¹ and y = Λ^-½ Vᵀ S Jᵀr. The scaling keeps precision when values differ in
+  // scale by orders of magnitude (albedo against a sharp lobe's F0); the eigen-decomposition
+  // copes with a singular JᵀJ (a value these samples do not determine), where Jᵀr has no
+  // component either.
+  Eigen::VectorXd s(F);
+  for (int k = 0; k < F; ++k) s[k] = jtj(k, k) > 0.0 ? 1.0 / std::sqrt(jtj(k, k)) : 1.0;
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(s.asDiagonal() * jtj * s.asDiagonal());
+  const Eigen::VectorXd lambda = eig.eigenvalues().cwiseMax(0.0);
+  const double tiny = 1e-300 + lambda.maxCoeff() * 1e-15;
+  const Eigen::VectorXd scaled_jtr = s.cwiseProduct(jtr);
+  Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> jac(jacobian, F + 1, F);
+  jac.setZero();
+  double yy = 0.0;
+  for (int k = 0; k < F; ++k) {
+    const double root = std::sqrt(lambda[k]);
+    const Eigen::VectorXd u = eig.eigenvectors().col(k);
+    jac.row(k).head(F) = root * u.cwiseQuotient(s).transpose();
+    residuals[k] = lambda[k] > tiny ? u.dot(scaled_jtr) / root : 0.0;
+    yy += residuals[k] * residuals[k];
+  }
+  residuals[F] = std::sqrt(std::max(rr - yy, 0.0));
 }
 
 }  // namespace detail
@@ -109,54 +159,74 @@ class BatchCost final : public ceres::CostFunction {
 
  private:
   bool evaluate_cost_only(const double* full, double* residuals) const {
-    double rr = 0.0;
-    for (size_t i = 0; i < batch_.count; ++i) {
-      const Sample& s = batch_.samples[i];
-      const Rgb<double> shade = shade_of<M>(full, s.l, s.v);
-      const double sqrt_w = std::sqrt(metric_weight(batch_.metric, s.weight));
-      for (int c = 0; c < 3; ++c) {
-        if (!batch_.channels[c]) continue;
-        double value, scale;
-        detail::robustify(batch_.loss, metric_residual(batch_.metric, shade[c], s.value[c]) * sqrt_w, value, scale);
-        rr += value * value;
-      }
-    }
-    for (int k = 0; k < num_free_; ++k) residuals[k] = 0.0;
-    residuals[num_free_] = std::sqrt(rr);
-    return std::isfinite(rr);
+    return detail::evaluate_cost_only(
+        batch_, num_free_, [full](const Sample& s) { return shade_of<M>(full, s.l, s.v); }, residuals);
   }
 
-  // Writes y, e and the (F+1) x F row-major Jacobian (R; 0) for the free block of JᵀJ, Jᵀr.
+  // The free block of JᵀJ and Jᵀr: the Jets carry derivatives in their first F entries.
   template <class JtJ>
   void compress(const JtJ& jtj_full, const Eigen::Matrix<double, K, 1>& jtr_full, double rr, double* residuals,
                 double* jacobian) const {
     const int F = num_free_;
-    const Eigen::MatrixXd jtj = Eigen::MatrixXd(jtj_full).topLeftCorner(F, F);
-    const Eigen::VectorXd jtr = jtr_full.head(F);
-    // Any square root of JᵀJ will do. With S = diag(JᵀJ)^-½ and S·JᵀJ·S = V Λ Vᵀ:
-    // R = Λ^½ Vᵀ S⁻¹ and y = Λ^-½ Vᵀ S Jᵀr. The scaling keeps precision when values differ in
-    // scale by orders of magnitude (albedo against a sharp lobe's F0); the eigen-decomposition
-    // copes with a singular JᵀJ (a value these samples do not determine), where Jᵀr has no
-    // component either.
-    Eigen::VectorXd s(F);
-    for (int k = 0; k < F; ++k) s[k] = jtj(k, k) > 0.0 ? 1.0 / std::sqrt(jtj(k, k)) : 1.0;
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(s.asDiagonal() * jtj * s.asDiagonal());
-    const Eigen::VectorXd lambda = eig.eigenvalues().cwiseMax(0.0);
-    const double tiny = 1e-300 + lambda.maxCoeff() * 1e-15;
-    const Eigen::VectorXd scaled_jtr = s.cwiseProduct(jtr);
-    Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> jac(jacobian, F + 1, F);
-    jac.setZero();
-    double yy = 0.0;
-    for (int k = 0; k < F; ++k) {
-      const double root = std::sqrt(lambda[k]);
-      const Eigen::VectorXd u = eig.eigenvectors().col(k);
-      jac.row(k).head(F) = root * u.cwiseQuotient(s).transpose();
-      residuals[k] = lambda[k] > tiny ? u.dot(scaled_jtr) / root : 0.0;
-      yy += residuals[k] * residuals[k];
-    }
-    residuals[F] = std::sqrt(std::max(rr - yy, 0.0));
+    detail::compress(Eigen::MatrixXd(jtj_full).topLeftCorner(F, F), jtr_full.head(F), rr, residuals, jacobian);
   }
 
+  ResidualBatch batch_;
+  int num_free_ = 0;
+};
+
+}  // namespace brdffit
+
+namespace brdffit {
+
+// The same cost as BatchCost for a model whose number of values is known only at run time (a
+// composite built from registered models, two_lobes.h): derivatives from the model's
+// shade_with_jacobian, the same compressed residuals.
+class JacobianBatchCost final : public ceres::CostFunction {
+ public:
+  // `model` must outlive the cost.
+  JacobianBatchCost(const Model& model, const ResidualBatch& batch) : model_(model), batch_(batch) {
+    num_free_ = static_cast<int>(batch.free_index->size());
+    set_num_residuals(num_free_ + 1);
+    mutable_parameter_block_sizes()->push_back(num_free_);
+  }
+
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    const int n = model_.num_values();
+    std::vector<double> full = *batch_.full_values;
+    const std::vector<int>& free = *batch_.free_index;
+    for (int k = 0; k < num_free_; ++k) full[free[k]] = parameters[0][k];
+    if (!jacobians || !jacobians[0])
+      return detail::evaluate_cost_only(
+          batch_, num_free_, [&](const Sample& s) { return model_.shade(full.data(), s.l, s.v); }, residuals);
+
+    using Scalar = ceres::Jet<double, 1>;  // differentiates the metric's residual with respect to the shade
+    std::vector<double> jacobian(3 * n);
+    Eigen::MatrixXd jtj = Eigen::MatrixXd::Zero(num_free_, num_free_);
+    Eigen::VectorXd jtr = Eigen::VectorXd::Zero(num_free_), grad(num_free_);
+    double rr = 0.0;
+    for (size_t i = 0; i < batch_.count; ++i) {
+      const Sample& s = batch_.samples[i];
+      const Rgb<double> shade = model_.shade_with_jacobian(full.data(), s.l, s.v, jacobian.data());
+      const double sqrt_w = std::sqrt(metric_weight(batch_.metric, s.weight));
+      for (int c = 0; c < 3; ++c) {
+        if (!batch_.channels[c]) continue;
+        const Scalar r = metric_residual(batch_.metric, Scalar(shade[c], 0), s.value[c]) * sqrt_w;
+        double value, scale;
+        detail::robustify(batch_.loss, r.a, value, scale);
+        for (int k = 0; k < num_free_; ++k) grad[k] = jacobian[c * n + free[k]] * r.v[0] * scale;
+        rr += value * value;
+        jtr += value * grad;
+        jtj.selfadjointView<Eigen::Upper>().rankUpdate(grad);
+      }
+    }
+    if (!std::isfinite(rr)) return false;
+    detail::compress(Eigen::MatrixXd(jtj.selfadjointView<Eigen::Upper>()), jtr, rr, residuals, jacobians[0]);
+    return true;
+  }
+
+ private:
+  const Model& model_;
   ResidualBatch batch_;
   int num_free_ = 0;
 };

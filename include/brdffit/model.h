@@ -82,7 +82,8 @@ std::vector<double> embed_values(const Model& outer, const Nesting& nesting, con
 
 // Every model brdffit knows, in a stable order.
 const std::vector<std::unique_ptr<Model>>& all_models();
-// The model with this CLI name, or nullptr.
+// The model with this CLI name, or nullptr. "FIRST+SECOND" names two lobes over one Lambert
+// base (two_lobes.h), built on first use; throws Error when a component is not such a lobe.
 const Model* find_model(const std::string& name);
 // The names of all models, comma separated (for messages).
 std::string model_names();

@@ -35,6 +35,32 @@ T beckmann_ndf(double cos_theta_h, const T& m) {
   return exp(-tan2 / m2) / (kPi * m2 * cos2 * cos2);
 }
 
+// The rotation φ₀ of an anisotropic lobe's tangent frame about the normal, in degrees: the
+// angle from the table's x axis to the lobe's x axis, counter-clockwise seen from above. A lobe
+// is unchanged by φ₀ + 180°, and by φ₀ + 90° with its x and y widths exchanged, so [0°, 90°]
+// holds every lobe once (a lobe turned by 120° is found at 30° with its widths exchanged) and
+// fits of the same data agree.
+inline ParamSpec tangent_rotation_param() {
+  return {"phi0", 1, 0.0, 90.0, 30.0,
+          "rotation of the lobe's x axis about the normal from the table's x axis, in degrees (x, y widths "
+          "exchanged: +90°)",
+          Role::Shape};
+}
+
+// The components of a direction d along the tangent frame turned by phi0_degrees about the normal.
+template <class T>
+struct TangentXY {
+  T x, y;
+};
+template <class T>
+TangentXY<T> in_tangent_frame(const Vec3& d, const T& phi0_degrees) {
+  using std::cos;
+  using std::sin;
+  const T phi0 = phi0_degrees * (kPi / 180.0);
+  const T c = cos(phi0), s = sin(phi0);
+  return {d.x() * c + d.y() * s, d.y() * c - d.x() * s};
+}
+
 // Nestings (model.h): the simpler models a model contains, declared in each model's nestings().
 
 // Lambert inside a lobe over the same Lambert base: the lobe's linear scale at 0 leaves exactly
