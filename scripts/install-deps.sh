@@ -7,6 +7,7 @@ packages=(
   libceres-dev libeigen3-dev libopenimageio-dev libopencv-dev
   libcli11-dev nlohmann-json3-dev libfmt-dev libgtest-dev libssl-dev
   openimageio-tools  # OpenImageIO's CMake package refers to its tools (iconvert, ...)
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib  # the Python module, its tests, examples/
 )
 [[ "${BRDFFIT_WITH_CHROMIUM:-0}" == 1 ]] && packages+=(chromium)
 missing=()
