@@ -176,7 +176,7 @@ void bind_fit(py::module_& m) {
           [](const FitResult& r) { return r.channel_values.empty() ? py::none() : py::cast(r.channel_values); },
           "With per_channel=True: one full value list per channel (r, g, b); otherwise None.")
       .def("as_dict", [](const FitResult& r) { return to_python(fit_result_json(r)); },
-           "This result as the result document's model entry (a dict; NaN written as None).")
+           "as_dict() -> dict\n\nThis result as the result document's model entry (NaN written as None).")
       .def("__repr__", [](const FitResult& r) {
         if (!r.ok) return fmt::format("<brdffit.FitResult {} failed: {}>", r.model, r.error);
         std::string params;
@@ -212,7 +212,7 @@ void bind_fit(py::module_& m) {
       .def_property_readonly("weighting", [](const PyFitResults& r) { return r.data->weighting; }, "Their weighting.")
       .def_readonly("input", &PyFitResults::input_path, "The table's path, or the samples' source.")
       .def("document", [](const PyFitResults& r) { return to_python(r.document()); },
-           "The whole result document as a dict, as `brdffit fit --out` writes it.")
+           "document() -> dict\n\nThe whole result document, as `brdffit fit --out` writes it.")
       .def(
           "save",
           [](const PyFitResults& r, const py::handle& path) { write_file_atomic(path_from(path), r.document().dump(2) + "\n"); },

@@ -151,7 +151,7 @@ void bind_models(py::module_& m) {
                              "True when the directional albedo stays at most 1 within the bounds.")
       .def_property_readonly("num_values", &Model::num_values,
                              "Length of the flattened value vector (colours take 3 values).")
-      .def("default_values", &Model::default_values, "The flattened default values, in parameter order.")
+      .def("default_values", &Model::default_values, "default_values() -> list[float]\n\nThe flattened default values, in parameter order.")
       .def("__repr__", [](const Model& model) { return fmt::format("<brdffit.Model {}: {}>", model.name(), model.summary()); });
 
   m.def(
@@ -207,6 +207,9 @@ samples hold f·cosθi per colour channel (r, g, b).
 Problems with input or options raise brdffit.Error (a ValueError) with the command line's
 message.)";
   m.attr("__version__") = BRDFFIT_VERSION;
+  // Every docstring starts with its own Python signature (pybind11's would show C++ types).
+  pybind11::options options;
+  options.disable_function_signatures();
   pybind11::register_exception<brdffit::Error>(m, "Error", PyExc_ValueError)
       .attr("__doc__") = "Bad input or options: the message names the file or argument and the problem, as the CLI's does.";
   bp::bind_models(m);
