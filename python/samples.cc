@@ -23,8 +23,17 @@ py::array sample_view(const PySamples& samples, const py::handle& owner, const d
   return view;
 }
 
-const Sample* first_sample(const PySamples& samples) {
-  return samples.set->empty() ? nullptr : &samples.set->samples[0];
+const double* first_double(const Vec3& x) { return x.data(); }
+const double* first_double(const double& x) { return &x; }
+
+// The getter of a property viewing one field of every sample.
+template <class Field>
+auto sample_field(Field Sample::*field, size_t columns) {
+  return [field, columns](const py::object& self) {
+    const PySamples& samples = py::cast<const PySamples&>(self);
+    const double* first = samples.set->empty() ? nullptr : first_double(samples.set->samples[0].*field);
+    return sample_view(samples, self, first, columns);
+  };
 }
 
 // The rows of an (N, 3) or (N,) array.
@@ -106,30 +115,14 @@ void bind_samples(py::module_& m) {
                         "Measured samples as the fitter sees them: directions, shaded values f·cosθi and\n"
                         "weights. The arrays are read-only views (no copy). Make them with brdffit.samples()\n"
                         "or brdffit.read().")
+      .def_property_readonly("light", sample_field(&Sample::l, 3),
+                             "(N, 3) unit directions towards the light, local frame (normal +z).")
+      .def_property_readonly("view", sample_field(&Sample::v, 3), "(N, 3) unit directions towards the viewer.")
       .def_property_readonly(
-          "light", [](py::object self) {
-            const auto& s = py::cast<const PySamples&>(self);
-            return sample_view(s, self, first_sample(s) ? first_sample(s)->l.data() : nullptr, 3);
-          },
-          "(N, 3) unit directions towards the light, local frame (normal +z).")
-      .def_property_readonly(
-          "view", [](py::object self) {
-            const auto& s = py::cast<const PySamples&>(self);
-            return sample_view(s, self, first_sample(s) ? first_sample(s)->v.data() : nullptr, 3);
-          },
-          "(N, 3) unit directions towards the viewer.")
-      .def_property_readonly(
-          "rgb", [](py::object self) {
-            const auto& s = py::cast<const PySamples&>(self);
-            return sample_view(s, self, first_sample(s) ? first_sample(s)->value.data() : nullptr, 3);
-          },
+          "rgb", sample_field(&Sample::value, 3),
           "(N, 3) measured shaded values f·cosθi per channel (what models' shaded values are compared with).")
-      .def_property_readonly(
-          "weight", [](py::object self) {
-            const auto& s = py::cast<const PySamples&>(self);
-            return sample_view(s, self, first_sample(s) ? &first_sample(s)->weight : nullptr, 1);
-          },
-          "(N,) relative importance of each sample (e.g. the solid angle of a table bin).")
+      .def_property_readonly("weight", sample_field(&Sample::weight, 1),
+                             "(N,) relative importance of each sample (e.g. the solid angle of a table bin).")
       .def_property_readonly("source", [](const PySamples& s) { return s.set->source; }, "Where the samples came from.")
       .def_property_readonly("weighting", [](const PySamples& s) { return s.set->weighting; },
                              "How the weights were chosen (uniform, solid-angle, given, ...).")
