@@ -175,7 +175,10 @@ MaterialOutcome process_material(const BatchMaterial& material, const BatchOptio
   const std::string result_path = (fs::path(options.out_dir) / (material.name + ".json")).string();
   try {
     std::optional<FitDocument> done;
-    if (options.resume) done = completed_document(result_path, material, options);
+    if (options.resume || options.merge_only) done = completed_document(result_path, material, options);
+    if (!done && options.merge_only)
+      fail("{}: no complete result document for these options (its shard did not finish it: run that shard, or the "
+           "batch, again with --resume)", result_path);
     if (done) {
       outcome.status = MaterialStatus::Ok;
       outcome.resumed = true;

@@ -36,6 +36,10 @@ struct BatchOptions {
   std::string out_dir;
   int jobs = 1;               // materials fitted at once
   bool resume = false;        // skip materials whose result document is complete and current
+  // Fit nothing: take every material's complete and current document (as resume does), and
+  // record a material without one as failed. The merge step after the shards of a batch
+  // (batch_shard.h) ran, for the summary.
+  bool merge_only = false;
 };
 
 enum class MaterialStatus {
