@@ -72,7 +72,8 @@ LossKind loss_from(const std::string& name) {
 }
 
 PyFitResults fit(const py::handle& data, const py::handle& models, const std::string& metric, const std::string& loss,
-                 double loss_scale, bool per_channel, bool converge, int threads, uint64_t seed) {
+                 double loss_scale, bool per_channel, bool converge, int threads, uint64_t seed,
+                 const py::object& on_result) {
   py::object holder;
   const PySamples& samples = samples_of(data, holder);
   PyFitResults out;
@@ -95,6 +96,7 @@ PyFitResults fit(const py::handle& data, const py::handle& models, const std::st
       out.results.push_back(fit_models({model}, *out.data, out.options).front());
     }
     if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+    if (!on_result.is_none()) on_result(out.results.back());
   }
   return out;
 }
@@ -227,9 +229,9 @@ void bind_fit(py::module_& m) {
 
   m.def("fit", &fit, py::arg("data"), py::arg("models") = "all", py::arg("metric") = "cosine", py::arg("loss") = "none",
         py::arg("loss_scale") = 0.0, py::arg("per_channel") = false, py::arg("converge") = false, py::arg("threads") = 0,
-        py::arg("seed") = 1,
+        py::arg("seed") = 1, py::arg("on_result") = py::none(),
         R"(fit(data, models="all", metric="cosine", loss="none", loss_scale=0.0, per_channel=False,
-    converge=False, threads=0, seed=1) -> FitResults
+    converge=False, threads=0, seed=1, on_result=None) -> FitResults
 
 Fits models to measured samples with the library's fitter, as `brdffit fit` does.
 
@@ -241,6 +243,8 @@ loss         robust loss per sample: "none", "huber" or "cauchy"; loss_scale whe
 per_channel  fit shape parameters per colour channel (colours always are).
 converge     large tables: iterate to convergence on all samples instead of polishing.
 threads      threads (0: every core). seed: the seed of the fitter's subsample.
+on_result    None, or a callable given each model's FitResult as soon as it is fitted
+             (progress in a notebook; an exception it raises stops the fit).
 
 Returns FitResults: one FitResult per model (a model that fails to fit is reported with
 status 'failed' and its error; the others are still fitted). Bad options or data raise

@@ -38,6 +38,19 @@ def test_fit_recovers_known_ggx_parameters_from_arrays():
     np.testing.assert_allclose(brdffit.eval("ggx", ggx, light, view)[0], shaded, atol=1e-5)
 
 
+def test_on_result_sees_each_model_as_it_is_fitted():
+    light, view, shaded = ggx_samples(500)
+    seen = []
+    results = brdffit.fit(brdffit.samples(light, view, shaded), models="lambert,ggx",
+                          on_result=lambda r: seen.append((r.model, r.ok)))
+    assert seen == [("lambert", True), ("ggx", True)] and len(results) == 2
+
+    def stop(result):
+        raise RuntimeError(f"stop after {result.model}")
+    with pytest.raises(RuntimeError, match="stop after lambert"):
+        brdffit.fit(brdffit.samples(light, view, shaded), models="lambert,ggx", on_result=stop)
+
+
 def test_per_channel_fit_recovers_a_roughness_per_channel():
     rng = np.random.default_rng(11)
     light, view = hemisphere_directions(rng, 3000), hemisphere_directions(rng, 3000)
