@@ -36,6 +36,7 @@ py::object value_or_tuple(const std::vector<double>& xs) {
 py::dict metrics_dict(const Metrics& m) {
   py::dict d;
   d["cosine"] = m.cosine, d["log"] = m.log, d["relative"] = m.relative, d["l2"] = m.l2, d["max"] = m.max;
+  d["typical"] = m.typical;
   return d;
 }
 
@@ -167,7 +168,8 @@ void bind_fit(py::module_& m) {
           },
           "{name: ParameterEstimate}, in the model's parameter order.")
       .def_property_readonly("metrics", [](const FitResult& r) { return metrics_dict(r.metrics); },
-                             "{'cosine', 'log', 'relative', 'l2', 'max'}: every error metric at the optimum.")
+                             "{'cosine', 'log', 'relative', 'l2', 'max', 'typical'}: every error metric at the optimum\n"
+                             "(typical: the median relative error of a sample, see metric.h).")
       .def_readonly("iterations", &FitResult::iterations, "Trust-region iterations over every stage.")
       .def_readonly("termination", &FitResult::termination, "How the last stage ended (Ceres' message).")
       .def_readonly("seconds", &FitResult::seconds, "Wall time of this model's fit.")
@@ -258,7 +260,7 @@ full MERL table), then the call raises KeyboardInterrupt and the finished fits a
         R"(score(data, model, params=None) -> dict
 
 Every error metric of given parameter values on samples, as `brdffit score` computes them:
-{'cosine', 'log', 'relative', 'l2', 'max'}. model is a name or Model with params as in
+{'cosine', 'log', 'relative', 'l2', 'max', 'typical'}. model is a name or Model with params as in
 brdffit.eval (None: the defaults), or a FitResult (its own values, params left None).)");
 }
 

@@ -71,6 +71,10 @@ Shard parse_shard(const std::string& text, const EnvironmentLookup& environment)
   return {static_cast<int>(index), static_cast<int>(count)};
 }
 
+std::string shard_lock_name(const Shard& shard) {
+  return ".brdffit-batch.shard-" + std::to_string(shard.index) + "-of-" + std::to_string(shard.count) + ".lock";
+}
+
 std::vector<BatchMaterial> shard_materials(const std::vector<BatchMaterial>& materials, const Shard& shard) {
   std::vector<uintmax_t> sizes(materials.size());
   for (size_t i = 0; i < materials.size(); ++i) {
