@@ -89,16 +89,16 @@ PyFitResults fit(const py::handle& data, const py::handle& models, const std::st
   out.options.seed = seed;
   const std::vector<const Model*> list = models_from(models);
   if (out.data->empty()) fail("{}: no samples left to fit (check --max-angle)", out.input_path);
-  // One model at a time without the GIL; Ctrl-C (or any pending signal) is honoured between
-  // models, where the finished results would otherwise be thrown away anyway.
-  for (const Model* model : list) {
-    {
-      py::gil_scoped_release release;
-      out.results.push_back(fit_models({model}, *out.data, out.options).front());
-    }
-    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-    if (!on_result.is_none()) on_result(out.results.back());
+  // One call of the library's fit_models, which shares work between the models (the Lambert
+  // baseline, contained models' optima): the results are the CLI's. The fitter has no way to be
+  // stopped midway yet, so Ctrl-C (any pending signal) is acted on when it returns.
+  {
+    py::gil_scoped_release release;
+    out.results = fit_models(list, *out.data, out.options);
   }
+  if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+  if (!on_result.is_none())
+    for (const FitResult& result : out.results) on_result(result);
   return out;
 }
 
@@ -245,16 +245,16 @@ loss         robust loss per sample: "none", "huber" or "cauchy"; loss_scale whe
 per_channel  fit shape parameters per colour channel (colours always are).
 converge     large tables: iterate to convergence on all samples instead of polishing.
 threads      threads (0: every core). seed: the seed of the fitter's subsample.
-on_result    None, or a callable given each model's FitResult as soon as it is fitted
-             (progress in a notebook; an exception it raises stops the fit).
+on_result    None, or a callable given each model's FitResult in turn once the fit is done
+             (an exception it raises propagates).
 
 Returns FitResults: one FitResult per model (a model that fails to fit is reported with
 status 'failed' and its error; the others are still fitted). Bad options or data raise
 brdffit.Error with the command line's message.
 
-The fit runs without the GIL. Ctrl-C (KeyboardInterrupt) is honoured between models: the
-model being fitted finishes first (a fraction of a second on a subsample, a few seconds on a
-full MERL table), then the call raises KeyboardInterrupt and the finished fits are dropped.)");
+The fit runs without the GIL (other Python threads go on). Ctrl-C is acted on when the
+library's fit returns (it cannot be stopped midway yet): the call then raises
+KeyboardInterrupt and the fits are dropped.)");
 
   m.def("score", &score, py::arg("data"), py::arg("model"), py::arg("params") = py::none(),
         R"(score(data, model, params=None) -> dict

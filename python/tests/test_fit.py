@@ -38,7 +38,7 @@ def test_fit_recovers_known_ggx_parameters_from_arrays():
     np.testing.assert_allclose(brdffit.eval("ggx", ggx, light, view)[0], shaded, atol=1e-5)
 
 
-def test_on_result_sees_each_model_as_it_is_fitted():
+def test_on_result_sees_each_model():
     light, view, shaded = ggx_samples(500)
     seen = []
     results = brdffit.fit(brdffit.samples(light, view, shaded), models="lambert,ggx",
@@ -131,13 +131,13 @@ def test_samples_round_trip_through_arrays(bundled_table):
     assert copy.source == "arrays" and copy.weighting == "given"
 
 
-def test_ctrl_c_interrupts_a_long_fit_between_models():
-    light, view, shaded = ggx_samples(20000)
+def test_ctrl_c_during_a_fit_raises_keyboard_interrupt():
+    light, view, shaded = ggx_samples(5000)
     samples = brdffit.samples(light, view, shaded)
     timer = threading.Timer(0.2, _thread.interrupt_main)
     timer.start()
     with pytest.raises(KeyboardInterrupt):
-        brdffit.fit(samples, models="all")
+        brdffit.fit(samples, models="lambert,ggx,ward")
     timer.join()
     assert brdffit.fit(samples, models="lambert")["lambert"].ok  # usable afterwards
 
