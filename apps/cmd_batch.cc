@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "brdffit/batch.h"
+#include "brdffit/batch_shard.h"
 #include "brdffit/compare.h"
 #include "brdffit/error.h"
 #include "brdffit/image_io.h"
@@ -161,6 +162,8 @@ struct BatchArgs {
   int jobs = 1;
   int threads = 0;
   bool resume = false;
+  std::string shard;   // K/N, auto, auto/N: fit only this share (batch_shard.h)
+  bool merge = false;  // fit nothing; the summary of what the shards wrote
 };
 
 void run_batch_command(const BatchArgs& args) {
@@ -176,9 +179,18 @@ void run_batch_command(const BatchArgs& args) {
   options.out_dir = args.out;
   options.jobs = args.jobs;
   options.resume = args.resume;
-  const std::vector<BatchMaterial> materials = batch_materials(args.inputs, args.out);
-  const OutputFolderLock lock(args.out);  // held until the summary is written
-  const int jobs = std::min<int>(args.jobs, static_cast<int>(materials.size()));
+  options.merge_only = args.merge;
+  const std::optional<Shard> shard = args.shard.empty() ? std::nullopt : std::optional<Shard>(parse_shard(args.shard));
+  options.shared_folder = shard.has_value();
+  std::vector<BatchMaterial> materials = batch_materials(args.inputs, args.out);
+  // Held until the summary is written; the shards of one batch each hold their own.
+  const OutputFolderLock lock(args.out, shard ? shard_lock_name(*shard) : OutputFolderLock::kLockName);
+  if (shard) {
+    const size_t all = materials.size();
+    materials = shard_materials(materials, *shard);
+    fmt::print("batch: shard {}/{}: {} of {} materials\n", shard->index, shard->count, materials.size(), all);
+  }
+  const int jobs = std::max(1, std::min<int>(args.jobs, static_cast<int>(materials.size())));  // a shard may get none
   fmt::print("batch: {} materials x {} models, {} at a time with {} threads each; results in {}\n", materials.size(),
              options.models.size(), jobs, args.threads > 0 ? args.threads : std::max(1, thread_count(0) / jobs), args.out);
   std::fflush(stdout);
@@ -196,20 +208,23 @@ void run_batch_command(const BatchArgs& args) {
   const double seconds = std::chrono::duration<double>(Clock::now() - started).count();
 
   const fs::path out(args.out);
-  write_file_atomic((out / "summary.json").string(), batch_summary_json(outcomes, options, seconds).dump(2) + "\n");
-  write_file_atomic((out / "summary.csv").string(), batch_summary_csv(outcomes, options));
+  // A shard's summary would hide the others': the merge step writes the batch's.
+  if (!shard) {
+    write_file_atomic((out / "summary.json").string(), batch_summary_json(outcomes, options, seconds).dump(2) + "\n");
+    write_file_atomic((out / "summary.csv").string(), batch_summary_csv(outcomes, options));
+  }
   size_t failed = 0, partial = 0, resumed = 0;
   for (const MaterialOutcome& o : outcomes) {
     failed += o.status == MaterialStatus::Failed;
     partial += o.status == MaterialStatus::Partial;
     resumed += o.resumed;
   }
-  fmt::print("batch: {} materials in {}: {} ok ({} already done), {} partly fitted, {} failed; summary in {}\n",
+  fmt::print("batch: {} materials in {}: {} ok ({} already done), {} partly fitted, {} failed; {}\n",
              outcomes.size(), duration_text(seconds), outcomes.size() - failed - partial, resumed, partial, failed,
-             (out / "summary.csv").string());
+             shard ? "summary by `brdffit batch ... --merge` once every shard is done" : "summary in " + (out / "summary.csv").string());
   if (failed + partial > 0)
     fail("{} of {} materials failed and {} were only partly fitted (see {})", failed, outcomes.size(), partial,
-         (out / "summary.json").string());
+         shard ? "the lines above" : (out / "summary.json").string());
 }
 
 // The result documents a batch summary lists (those of the materials that were fitted), or
@@ -415,6 +430,10 @@ void add_batch_commands(CLI::App& app) {
   batch_cmd->add_option("--threads", batch->threads, "Threads per material (0: the cores shared among the jobs)")
       ->check(kThreadsRange);
   batch_cmd->add_flag("--resume", batch->resume, "Skip materials whose result document is complete and current");
+  CLI::Option* shard = batch_cmd->add_option(
+      "--shard", batch->shard,
+      "Fit only share K of N (K/N, 0-based); auto: from a Slurm job array; auto/N: from a Kubernetes Indexed Job");
+  batch_cmd->add_flag("--merge", batch->merge, "Fit nothing: write the summary of what the shards wrote")->excludes(shard);
   batch->sampling.add_to(batch_cmd);
   batch_cmd->callback([batch] { run_batch_command(*batch); });
 

@@ -8,6 +8,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev libfmt-dev libgtest-dev libssl-dev
   openimageio-tools  # OpenImageIO's CMake package refers to its tools (iconvert, ...)
   libxml2-utils      # xmllint checks exported MaterialX and Mitsuba files in the tests
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib  # the Python module, its tests, examples/
 )
 # node and npm run the Khronos glTF-Validator (below), which checks exported glTF files in the
 # tests. Debian's packages unless both commands are there already (another node distribution,

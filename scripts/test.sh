@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds brdffit and runs the whole test suite; then builds and runs
+# Installs what is missing, builds brdffit and runs the whole test suite (ctest, then the Python
+# module's pytest suite); then builds and runs
 # it once more with AddressSanitizer and UndefinedBehaviorSanitizer (skip with --no-sanitize).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -15,9 +16,15 @@ run_suite() {  # build-dir, extra cmake args...
 
 mkdir -p build
 run_suite build
+if [[ -x build/python/pytest.sh ]]; then
+  echo "== Python module (pytest python/tests)"
+  build/python/pytest.sh -v
+else
+  echo "== Python module not built (see 'Python module' in build.configure.log): pytest skipped"
+fi
 if [[ "${1:-}" != "--no-sanitize" ]]; then
   echo "== again with AddressSanitizer + UndefinedBehaviorSanitizer"
   mkdir -p build-asan
   ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
-    run_suite build-asan -DBRDFFIT_SANITIZE=ON -DBRDFFIT_BUILD_BENCH=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo
+    run_suite build-asan -DBRDFFIT_SANITIZE=ON -DBRDFFIT_BUILD_BENCH=OFF -DBRDFFIT_PYTHON=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo
 fi

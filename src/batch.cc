@@ -186,7 +186,10 @@ MaterialOutcome process_material(const BatchMaterial& material, const BatchOptio
   const std::string result_path = absolute_path((fs::path(options.out_dir) / (material.name + ".json")).string());
   try {
     std::optional<FitDocument> done;
-    if (options.resume) done = completed_document(result_path, material, options);
+    if (options.resume || options.merge_only) done = completed_document(result_path, material, options);
+    if (!done && options.merge_only)
+      fail("{}: no complete result document for these options (its shard did not finish it: run that shard, or the "
+           "batch, again with --resume)", result_path);
     if (done) {
       outcome.status = MaterialStatus::Ok;
       outcome.resumed = true;
@@ -279,12 +282,12 @@ bool process_alive(long pid) { return pid > 0 && (::kill(static_cast<pid_t>(pid)
 
 }  // namespace
 
-OutputFolderLock::OutputFolderLock(const std::string& folder) {
+OutputFolderLock::OutputFolderLock(const std::string& folder, const std::string& lock_name) {
   std::error_code error;
   fs::create_directories(folder, error);
   if (error || !fs::is_directory(folder))
     fail("{}: cannot create the output folder{}", folder, error ? ": " + error.message() : "");
-  path_ = (fs::path(folder) / kLockName).string();
+  path_ = (fs::path(folder) / lock_name).string();
   for (int attempt = 0; attempt < 2; ++attempt) {
     const int fd = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
     if (fd >= 0) {
@@ -317,7 +320,7 @@ std::vector<MaterialOutcome> run_batch(const std::vector<BatchMaterial>& materia
   if (error || !fs::is_directory(options.out_dir))
     fail("{}: cannot create the output folder{}", options.out_dir, error ? ": " + error.message() : "");
 
-  if (options.resume) remove_stale_temp_files(options.out_dir);
+  if ((options.resume || options.merge_only) && !options.shared_folder) remove_stale_temp_files(options.out_dir);
 
   const int jobs = static_cast<int>(std::clamp<size_t>(static_cast<size_t>(std::max(1, options.jobs)), 1,
                                                        std::max<size_t>(materials.size(), 1)));

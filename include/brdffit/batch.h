@@ -36,6 +36,13 @@ struct BatchOptions {
   std::string out_dir;
   int jobs = 1;               // materials fitted at once
   bool resume = false;        // skip materials whose result document is complete and current
+  // Fit nothing: take every material's complete and current document (as resume does), and
+  // record a material without one as failed. The merge step after the shards of a batch
+  // (batch_shard.h) ran, for the summary.
+  bool merge_only = false;
+  // Other processes (the other shards of this batch) write into out_dir at the same time: the
+  // temporary files of a killed run are left for the merge step to remove, not taken for stale.
+  bool shared_folder = false;
 };
 
 enum class MaterialStatus {
@@ -69,7 +76,9 @@ struct BatchEvents {
 class OutputFolderLock {
  public:
   static constexpr const char* kLockName = ".brdffit-batch.lock";
-  explicit OutputFolderLock(const std::string& folder);
+  // lock_name: another name for processes that cooperate in one folder (each shard of a batch
+  // holds its own, so the shards run together but the same shard never runs twice at once).
+  explicit OutputFolderLock(const std::string& folder, const std::string& lock_name = kLockName);
   ~OutputFolderLock();
   OutputFolderLock(const OutputFolderLock&) = delete;
   OutputFolderLock& operator=(const OutputFolderLock&) = delete;
@@ -86,7 +95,8 @@ class OutputFolderLock {
 // metric, per-channel and loss settings, and holds every requested model fitted ok. Returns one
 // outcome per material, in input order. A material that fails leaves no result document: an
 // older one (from a previous run, for an input since changed) is removed, so it cannot be taken
-// for this run's. With resume, temporary files a killed run left in out_dir are removed first.
+// for this run's. With resume or merge_only (and not shared_folder), temporary files a killed run
+// left in out_dir are removed first.
 // The caller holds an OutputFolderLock on out_dir. Throws Error only for an unusable output folder.
 std::vector<MaterialOutcome> run_batch(const std::vector<BatchMaterial>& materials, const BatchOptions& options,
                                        const BatchEvents& events = {});

@@ -1,0 +1,267 @@
+// Fits and scores from Python: brdffit.fit, brdffit.score and the result objects, whose fields
+// are those of the result document `brdffit fit --out` writes.
+#include <fmt/format.h>
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <cstdint>
+
+#include "bindings.h"
+#include "brdffit/error.h"
+#include "brdffit/io.h"
+#include "brdffit/result_json.h"
+
+namespace brdffit::python {
+
+namespace {
+
+// The results of one brdffit.fit call and what its document needs.
+struct PyFitResults {
+  std::vector<FitResult> results;
+  std::shared_ptr<const SampleSet> data;
+  std::string input_path;
+  FitOptions options;
+
+  nlohmann::json document() const { return fit_document_json(input_path, *data, options, results); }
+};
+
+py::object to_python(const nlohmann::json& json) { return py::module_::import("json").attr("loads")(json.dump()); }
+
+// One value as a float, three as a tuple.
+py::object value_or_tuple(const std::vector<double>& xs) {
+  if (xs.size() == 1) return py::float_(xs[0]);
+  return py::tuple(py::cast(xs));
+}
+
+py::dict metrics_dict(const Metrics& m) {
+  py::dict d;
+  d["cosine"] = m.cosine, d["log"] = m.log, d["relative"] = m.relative, d["l2"] = m.l2, d["max"] = m.max;
+  d["typical"] = m.typical;
+  return d;
+}
+
+const PySamples& samples_of(const py::handle& data, py::object& holder) {
+  holder = py::reinterpret_borrow<py::object>(data);
+  if (py::isinstance<py::str>(data) || py::hasattr(data, "__fspath__"))
+    holder = py::module_::import("brdffit").attr("read")(data);
+  if (!py::isinstance<PySamples>(holder)) throw py::type_error("data: a Table, Samples or the path of a table");
+  return py::cast<const PySamples&>(holder);
+}
+
+std::string input_path_of(const py::handle& holder, const PySamples& samples) {
+  return py::isinstance<PyTable>(holder) ? py::cast<const PyTable&>(holder).path : samples.set->source;
+}
+
+std::vector<const Model*> models_from(const py::handle& models) {
+  if (py::isinstance<py::str>(models)) return parse_model_list(py::cast<std::string>(models));
+  std::vector<const Model*> list;
+  for (const py::handle& m : models) list.push_back(&model_from(m));
+  if (list.empty()) fail("models: no model given");
+  return list;
+}
+
+Metric metric_from(const std::string& name) {
+  const std::optional<Metric> metric = parse_metric(name);
+  if (!metric) fail("metric: unknown metric '{}' (cosine, log, relative, l2)", name);
+  return *metric;
+}
+
+LossKind loss_from(const std::string& name) {
+  for (const auto& [kind, spelling] : {std::pair{LossKind::None, "none"}, {LossKind::Huber, "huber"}, {LossKind::Cauchy, "cauchy"}})
+    if (name == spelling) return kind;
+  fail("loss: unknown loss '{}' (none, huber, cauchy)", name);
+}
+
+PyFitResults fit(const py::handle& data, const py::handle& models, const std::string& metric, const std::string& loss,
+                 double loss_scale, bool per_channel, bool converge, int threads, uint64_t seed,
+                 const py::object& on_result) {
+  py::object holder;
+  const PySamples& samples = samples_of(data, holder);
+  PyFitResults out;
+  out.data = samples.set;
+  out.input_path = input_path_of(holder, samples);
+  out.options.metric = metric_from(metric);
+  out.options.loss = loss_from(loss);
+  out.options.loss_scale = loss_scale;
+  out.options.per_channel = per_channel;
+  if (converge) out.options.polish_after = SIZE_MAX;  // as the CLI's --converge
+  out.options.threads = threads;
+  out.options.seed = seed;
+  const std::vector<const Model*> list = models_from(models);
+  if (out.data->empty()) fail("{}: no samples left to fit (check --max-angle)", out.input_path);
+  // One call of the library's fit_models, which shares work between the models (the Lambert
+  // baseline, contained models' optima): the results are the CLI's. The fitter has no way to be
+  // stopped midway yet, so Ctrl-C (any pending signal) is acted on when it returns.
+  {
+    py::gil_scoped_release release;
+    out.results = fit_models(list, *out.data, out.options);
+  }
+  if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+  if (!on_result.is_none())
+    for (const FitResult& result : out.results) on_result(result);
+  return out;
+}
+
+py::dict score(const py::handle& data, const py::handle& model_arg, const py::handle& params) {
+  py::object holder;
+  const PySamples& samples = samples_of(data, holder);
+  const bool from_fit = py::isinstance<FitResult>(model_arg);
+  const Model& model = from_fit ? model_from(py::str(py::cast<const FitResult&>(model_arg).model)) : model_from(model_arg);
+  const ModelValues values = values_from(model, from_fit && params.is_none() ? model_arg : params);
+  if (samples.set->empty()) fail("{}: no samples left to score (check --max-angle)", input_path_of(holder, samples));
+  const std::shared_ptr<const SampleSet> set = samples.set;
+  Metrics metrics;
+  {
+    py::gil_scoped_release release;
+    metrics = evaluate_metrics(model, values.values, *set, values.per_channel);
+  }
+  return metrics_dict(metrics);
+}
+
+const FitResult* best_of(const PyFitResults& r) {
+  const FitResult* best = nullptr;
+  for (const FitResult& result : r.results)
+    if (result.ok && (!best || result.metrics.get(r.options.metric) < best->metrics.get(r.options.metric))) best = &result;
+  return best;
+}
+
+const FitResult& result_named(const PyFitResults& r, const std::string& name) {
+  for (const FitResult& result : r.results)
+    if (result.model == name) return result;
+  throw py::key_error(fmt::format("no fit of model '{}' in these results", name));
+}
+
+}  // namespace
+
+void bind_fit(py::module_& m) {
+  py::class_<ParameterEstimate>(m, "ParameterEstimate", "A fitted parameter: value, standard deviation and flags.")
+      .def_readonly("name", &ParameterEstimate::name, "The parameter's name.")
+      .def_property_readonly("value", [](const ParameterEstimate& p) { return value_or_tuple(p.value); },
+                             "The value: a float, or an (r, g, b) tuple for colours and per-channel fits.")
+      .def_property_readonly("stddev", [](const ParameterEstimate& p) { return value_or_tuple(p.stddev); },
+                             "Standard deviation(s) from the covariance at the optimum; NaN where not estimated\n"
+                             "(null in the JSON document).")
+      .def_readonly("identifiable", &ParameterEstimate::identifiable, "False: the data do not determine it.")
+      .def_readonly("at_bound", &ParameterEstimate::at_bound, "True: the optimum sits on a bound.")
+      .def("__repr__", [](const ParameterEstimate& p) {
+        return fmt::format("{}={}", p.name, py::str(value_or_tuple(p.value)).cast<std::string>());
+      });
+
+  py::class_<FitResult>(m, "FitResult",
+                        "One model's fit, with the fields of a model entry of the result document.\n"
+                        "as_dict() gives that entry exactly as `brdffit fit --out` writes it.")
+      .def_readonly("model", &FitResult::model, "The model's name.")
+      .def_readonly("ok", &FitResult::ok, "True when the fit succeeded.")
+      .def_property_readonly("status", [](const FitResult& r) { return r.ok ? "ok" : "failed"; }, "'ok' or 'failed'.")
+      .def_property_readonly("verdict", [](const FitResult& r) { return verdict_name(r.verdict); },
+                             "'good', 'poor' (clearly worse than a Lambert baseline or leaving most of the data\n"
+                             "unexplained) or 'failed'.")
+      .def_readonly("warnings", &FitResult::warnings, "One line each: what a user should know about this fit.")
+      .def_property_readonly("error", [](const FitResult& r) { return r.ok ? py::none() : py::object(py::str(r.error)); },
+                             "Why the fit failed, or None.")
+      .def_property_readonly(
+          "parameters",
+          [](const FitResult& r) {
+            py::dict d;
+            for (const ParameterEstimate& p : r.parameters) d[py::str(p.name)] = py::cast(p);
+            return d;
+          },
+          "{name: ParameterEstimate}, in the model's parameter order.")
+      .def_property_readonly("metrics", [](const FitResult& r) { return metrics_dict(r.metrics); },
+                             "{'cosine', 'log', 'relative', 'l2', 'max', 'typical'}: every error metric at the optimum\n"
+                             "(typical: the median relative error of a sample, see metric.h).")
+      .def_readonly("iterations", &FitResult::iterations, "Trust-region iterations over every stage.")
+      .def_readonly("termination", &FitResult::termination, "How the last stage ended (Ceres' message).")
+      .def_readonly("seconds", &FitResult::seconds, "Wall time of this model's fit.")
+      .def_readonly("samples", &FitResult::samples, "Number of samples fitted.")
+      .def_readonly("values", &FitResult::values, "The flattened values, in the model's order (eval accepts them).")
+      .def_property_readonly(
+          "channel_values",
+          [](const FitResult& r) { return r.channel_values.empty() ? py::none() : py::cast(r.channel_values); },
+          "With per_channel=True: one full value list per channel (r, g, b); otherwise None.")
+      .def("as_dict", [](const FitResult& r) { return to_python(fit_result_json(r)); },
+           "as_dict() -> dict\n\nThis result as the result document's model entry (NaN written as None).")
+      .def("__repr__", [](const FitResult& r) {
+        if (!r.ok) return fmt::format("<brdffit.FitResult {} failed: {}>", r.model, r.error);
+        std::string params;
+        for (const ParameterEstimate& p : r.parameters)
+          params += " " + p.name + "=" + py::str(value_or_tuple(p.value)).cast<std::string>();
+        return fmt::format("<brdffit.FitResult {} ({}, cosine {:.4g}):{}>", r.model, verdict_name(r.verdict),
+                           r.metrics.cosine, params);
+      });
+
+  py::class_<PyFitResults>(m, "FitResults",
+                           "The fits of one brdffit.fit call, in the order the models were given: a sequence of\n"
+                           "FitResult, also indexed by model name; document() is `brdffit fit --out`'s JSON.")
+      .def("__len__", [](const PyFitResults& r) { return r.results.size(); })
+      .def(
+          "__getitem__",
+          [](const PyFitResults& r, const py::object& key) -> const FitResult& {
+            if (py::isinstance<py::str>(key)) return result_named(r, py::cast<std::string>(key));
+            py::ssize_t i = py::cast<py::ssize_t>(key), n = static_cast<py::ssize_t>(r.results.size());
+            if (i < 0) i += n;
+            if (i < 0 || i >= n) throw py::index_error("fit result index out of range");
+            return r.results[i];
+          },
+          py::return_value_policy::reference_internal)
+      .def(
+          "__iter__", [](const PyFitResults& r) { return py::make_iterator(r.results.begin(), r.results.end()); },
+          py::keep_alive<0, 1>())
+      .def_property_readonly(
+          "best", [](const PyFitResults& r) { return best_of(r); }, py::return_value_policy::reference_internal,
+          "The successful fit with the lowest error in the minimised metric, or None.")
+      .def_property_readonly("metric", [](const PyFitResults& r) { return metric_name(r.options.metric); },
+                             "The metric that was minimised.")
+      .def_property_readonly("samples", [](const PyFitResults& r) { return r.data->size(); }, "Samples fitted.")
+      .def_property_readonly("weighting", [](const PyFitResults& r) { return r.data->weighting; }, "Their weighting.")
+      .def_readonly("input", &PyFitResults::input_path, "The table's path, or the samples' source.")
+      .def("document", [](const PyFitResults& r) { return to_python(r.document()); },
+           "document() -> dict\n\nThe whole result document, as `brdffit fit --out` writes it.")
+      .def(
+          "save",
+          [](const PyFitResults& r, const py::handle& path) { write_file_atomic(path_from(path), r.document().dump(2) + "\n"); },
+          py::arg("path"),
+          "save(path): writes the result document (JSON) whole or not at all, for brdffit report,\n"
+          "render, compare and export.")
+      .def("__repr__", [](const PyFitResults& r) {
+        const FitResult* best = best_of(r);
+        return fmt::format("<brdffit.FitResults {} models on {} ({} samples), best: {}>", r.results.size(),
+                           r.input_path, r.data->size(), best ? best->model : "none");
+      });
+
+  m.def("fit", &fit, py::arg("data"), py::arg("models") = "all", py::arg("metric") = "cosine", py::arg("loss") = "none",
+        py::arg("loss_scale") = 0.0, py::arg("per_channel") = false, py::arg("converge") = false, py::arg("threads") = 0,
+        py::arg("seed") = 1, py::arg("on_result") = py::none(),
+        R"(fit(data, models="all", metric="cosine", loss="none", loss_scale=0.0, per_channel=False,
+    converge=False, threads=0, seed=1, on_result=None) -> FitResults
+
+Fits models to measured samples with the library's fitter, as `brdffit fit` does.
+
+data         a Table (brdffit.read), Samples (brdffit.samples) or the path of a table.
+models       "all", "lambert,ggx", or a list of names or Model objects.
+metric       what is minimised: "cosine", "log", "relative" or "l2" (all are reported).
+loss         robust loss per sample: "none", "huber" or "cauchy"; loss_scale where it bends
+             (0: automatic).
+per_channel  fit shape parameters per colour channel (colours always are).
+converge     large tables: iterate to convergence on all samples instead of polishing.
+threads      threads (0: every core). seed: the seed of the fitter's subsample.
+on_result    None, or a callable given each model's FitResult in turn once the fit is done
+             (an exception it raises propagates).
+
+Returns FitResults: one FitResult per model (a model that fails to fit is reported with
+status 'failed' and its error; the others are still fitted). Bad options or data raise
+brdffit.Error with the command line's message.
+
+The fit runs without the GIL (other Python threads go on). Ctrl-C is acted on when the
+library's fit returns (it cannot be stopped midway yet): the call then raises
+KeyboardInterrupt and the fits are dropped.)");
+
+  m.def("score", &score, py::arg("data"), py::arg("model"), py::arg("params") = py::none(),
+        R"(score(data, model, params=None) -> dict
+
+Every error metric of given parameter values on samples, as `brdffit score` computes them:
+{'cosine', 'log', 'relative', 'l2', 'max', 'typical'}. model is a name or Model with params as in
+brdffit.eval (None: the defaults), or a FitResult (its own values, params left None).)");
+}
+
+}  // namespace brdffit::python
