@@ -12,6 +12,8 @@
 namespace brdffit {
 namespace {
 
+namespace fs = std::filesystem;
+
 class BatchResume : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -123,6 +125,20 @@ TEST_F(BatchResume, AFailedModelMakesThePartialStatusAndIsFittedAgain) {
   EXPECT_EQ(summary["materials"][0]["status"], "partial");
   EXPECT_TRUE(summary["materials"][0]["errors"]["broken"].is_null());
   EXPECT_EQ(summary["materials"][0]["best_model"], "lambert");
+}
+
+TEST(BatchCli, APartlyFittedMaterialExitsOneAndSaysSo) {
+  // Values so large that every residual's square overflows: each model's fit fails cleanly,
+  // the document is still written, and the material is partial, not failed.
+  const std::string dir = test::fresh_dir("batch-partial");
+  write_file_atomic(dir + "/huge.csv", "lx,ly,lz,vx,vy,vz,r,g,b\n0,0,1,0,0,1,1e200,1,1\n0.6,0,0.8,0,0,1,1e200,1,1\n");
+  const auto r = test::run_cli("batch " + dir + "/huge.csv --models lambert --out " + dir + "/out");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("huge: partial"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("0 of 1 materials failed and 1 were only partly fitted"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::exists(dir + "/out/huge.json"));
+  const nlohmann::json summary = nlohmann::json::parse(read_file(dir + "/out/summary.json"));
+  EXPECT_EQ(summary["counts"]["partial"], 1);
 }
 
 }  // namespace
