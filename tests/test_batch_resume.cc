@@ -12,8 +12,6 @@
 namespace brdffit {
 namespace {
 
-namespace fs = std::filesystem;
-
 class BatchResume : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -103,20 +101,27 @@ TEST_F(BatchResume, AFailedModelMakesThePartialStatusAndIsFittedAgain) {
   ASSERT_EQ(partial.fits.size(), 2u);
   EXPECT_TRUE(partial.fits[1].ok);
   // The document is written, with the failure in it.
-  const FitDocument written = read_fit_document(document());
-  ASSERT_EQ(written.results.size(), 2u);
-  EXPECT_FALSE(written.results[0].ok);
+  const nlohmann::json written = nlohmann::json::parse(read_file(document()));
+  ASSERT_EQ(written["models"].size(), 2u);
+  EXPECT_EQ(written["models"][0]["status"], "failed");
+  EXPECT_EQ(written["models"][1]["status"], "ok");
 
   // Asked again for the model that failed: not done, fitted again (and failing again).
   const MaterialOutcome retried = run(with_broken);
   EXPECT_FALSE(retried.resumed);
   EXPECT_EQ(retried.status, MaterialStatus::Partial);
-  // Asked only for the model that fitted: done.
-  const MaterialOutcome lambert_only = run(options_);
-  EXPECT_TRUE(lambert_only.resumed);
-  EXPECT_EQ(lambert_only.status, MaterialStatus::Ok);
-  ASSERT_EQ(lambert_only.fits.size(), 1u);
-  EXPECT_EQ(lambert_only.fits[0].model, "lambert");
+
+  // A prior document whose requested (registered) model failed is not done either.
+  ASSERT_EQ(run(options_).status, MaterialStatus::Ok);
+  nlohmann::json failed = nlohmann::json::parse(read_file(document()));
+  failed["models"][0]["status"] = "failed";
+  failed["models"][0]["verdict"] = "failed";
+  failed["models"][0]["error"] = "diverged on purpose";
+  write_file_atomic(document(), failed.dump(2));
+  const MaterialOutcome refitted = run(options_);
+  EXPECT_FALSE(refitted.resumed);
+  EXPECT_EQ(refitted.status, MaterialStatus::Ok) << refitted.error;
+  EXPECT_TRUE(run(options_).resumed);
 
   // The summary counts it as partial, with the failed model's error empty.
   const nlohmann::json summary = batch_summary_json({partial}, with_broken, 1.0);
@@ -125,20 +130,6 @@ TEST_F(BatchResume, AFailedModelMakesThePartialStatusAndIsFittedAgain) {
   EXPECT_EQ(summary["materials"][0]["status"], "partial");
   EXPECT_TRUE(summary["materials"][0]["errors"]["broken"].is_null());
   EXPECT_EQ(summary["materials"][0]["best_model"], "lambert");
-}
-
-TEST(BatchCli, APartlyFittedMaterialExitsOneAndSaysSo) {
-  // Values so large that every residual's square overflows: each model's fit fails cleanly,
-  // the document is still written, and the material is partial, not failed.
-  const std::string dir = test::fresh_dir("batch-partial");
-  write_file_atomic(dir + "/huge.csv", "lx,ly,lz,vx,vy,vz,r,g,b\n0,0,1,0,0,1,1e200,1,1\n0.6,0,0.8,0,0,1,1e200,1,1\n");
-  const auto r = test::run_cli("batch " + dir + "/huge.csv --models lambert --out " + dir + "/out");
-  EXPECT_EQ(r.exit_code, 1) << r.output;
-  EXPECT_NE(r.output.find("huge: partial"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("0 of 1 materials failed and 1 were only partly fitted"), std::string::npos) << r.output;
-  EXPECT_TRUE(fs::exists(dir + "/out/huge.json"));
-  const nlohmann::json summary = nlohmann::json::parse(read_file(dir + "/out/summary.json"));
-  EXPECT_EQ(summary["counts"]["partial"], 1);
 }
 
 }  // namespace
