@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -56,14 +57,20 @@ inline std::string write_model_csv(const std::string& path, const std::string& m
   return path;
 }
 
-// A fit result with a known cosine error (ok) or a failure (NaN error).
-inline FitResult known_result(const std::string& model, double cosine) {
+// A fit result with a known cosine error (ok) or a failure (NaN error). The other metrics are
+// `log` when given (so that ranking by log can differ from ranking by cosine), else the cosine
+// error; relative, l2 and max are the cosine error times 2, 3 and 4.
+inline FitResult known_result(const std::string& model, double cosine, std::optional<double> log = std::nullopt) {
   FitResult r;
   r.model = model;
   r.ok = !std::isnan(cosine);
   if (!r.ok) r.error = "diverged on purpose";
+  r.verdict = r.ok ? Verdict::Good : Verdict::Failed;
   r.metrics.cosine = cosine;
-  r.metrics.log = r.metrics.relative = r.metrics.l2 = r.metrics.max = cosine;
+  r.metrics.log = log.value_or(cosine);
+  r.metrics.relative = 2 * cosine;
+  r.metrics.l2 = 3 * cosine;
+  r.metrics.max = 4 * cosine;
   if (const Model* m = find_model(model)) r.values = m->default_values();
   return r;
 }

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "brdffit/error.h"
+#include "brdffit/math.h"
 #include "test_util.h"
 
 namespace brdffit::test {
@@ -77,6 +78,33 @@ inline std::vector<std::string> shared_rgl_files() {
       if (entry.path().extension() == ".bsdf") files.push_back(entry.path().string());
   std::sort(files.begin(), files.end());
   return files;
+}
+
+// The stored double of channel c at (iθh, iθd, iφd) of a 90x90x180 file, read from its bytes
+// with the layout written out here rather than the reader's index code.
+inline double raw_bin(const std::string& bytes, int channel, int i_theta_h, int i_theta_d, int i_phi_d) {
+  const size_t bin = (size_t(i_theta_h) * 90 + i_theta_d) * 180 + i_phi_d, kBins = 90 * 90 * 180;
+  double value;
+  std::memcpy(&value, bytes.data() + 12 + (channel * kBins + bin) * 8, 8);
+  return value;
+}
+
+inline Rgb<double> raw_f(const std::string& bytes, int i_theta_h, int i_theta_d, int i_phi_d) {
+  return {raw_bin(bytes, 0, i_theta_h, i_theta_d, i_phi_d) / 1500,
+          raw_bin(bytes, 1, i_theta_h, i_theta_d, i_phi_d) * 1.15 / 1500,
+          raw_bin(bytes, 2, i_theta_h, i_theta_d, i_phi_d) * 1.66 / 1500};
+}
+
+// The light/view pair with half/difference angles (degrees) θh, θd, φd and φh, built from the
+// half-vector frame t = ∂h/∂θh, b = ẑ × h / sinθh, h (independent of rusinkiewicz.h):
+// l = sinθd cosφd t + sinθd sinφd b + cosθd h, and v the mirror of l about h.
+inline std::pair<Vec3, Vec3> pair_from_angles(double theta_h, double theta_d, double phi_d, double phi_h) {
+  const double th = theta_h * kPi / 180, td = theta_d * kPi / 180, pd = phi_d * kPi / 180, ph = phi_h * kPi / 180;
+  const Vec3 h(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
+  const Vec3 t(std::cos(th) * std::cos(ph), std::cos(th) * std::sin(ph), -std::sin(th));
+  const Vec3 b(-std::sin(ph), std::cos(ph), 0);
+  const Vec3 l = std::sin(td) * std::cos(pd) * t + std::sin(td) * std::sin(pd) * b + std::cos(td) * h;
+  return {l, 2 * l.dot(h) * h - l};
 }
 
 // Expects `action` to throw brdffit::Error (nothing else) whose message contains every

@@ -6,6 +6,7 @@
 #include "brdffit/error.h"
 #include "brdffit/fit.h"
 #include "brdffit/fit_residual.h"
+#include "broken_model.h"
 #include "test_util.h"
 
 namespace brdffit {
@@ -52,18 +53,30 @@ TEST(Fit, RecoversKnownParametersOfEveryModel) {
     FitOptions options;
     const FitResult fit = fit_model(*m, data, options);
     ASSERT_TRUE(fit.ok) << fit.error;
+    // Every parameter is determined by these data, except Lafortune's axis, which is only
+    // determined up to scale (LafortuneAxisIsDeterminedOnlyUpToScale).
     int offset = 0;
     for (const ParameterEstimate& p : fit.parameters) {
-      // A parameter the data cannot determine must say so (and the fit must still reproduce
-      // the data, checked below); every other one must come back.
-      if (!p.identifiable) {
+      const bool determined = !(m->name() == "lafortune" && (p.name == "cxy" || p.name == "cz"));
+      EXPECT_EQ(p.identifiable, determined) << p.name;
+      if (!determined) {
         for (double s : p.stddev) EXPECT_TRUE(std::isnan(s)) << p.name;
         offset += static_cast<int>(p.value.size());
         continue;
       }
       for (size_t c = 0; c < p.value.size(); ++c) {
-        const double expected = truth[offset + c];
-        const double tolerance = std::max(0.02 * std::abs(expected), std::isfinite(p.stddev[c]) ? 2 * p.stddev[c] : 0.0);
+        // The estimate within 2 % of the truth, or within 3 reported stddevs where the data
+        // determine it less well; the stddev itself at most 10 % of the value (largest seen:
+        // beckmann's albedo, 5.8 %) and calibrated in test_fit_calibration.cc, so an inflated
+        // one cannot excuse a wrong value.
+        const double expected = truth[offset + c], stddev = p.stddev[c];
+        if (m->parameters()[&p - fit.parameters.data()].integer) {  // searched, not estimated: exact
+          EXPECT_EQ(p.value[c], expected) << p.name;
+          continue;
+        }
+        ASSERT_TRUE(std::isfinite(stddev)) << p.name << "[" << c << "]";
+        EXPECT_LE(stddev, 0.1 * std::abs(expected) + 1e-9) << p.name << "[" << c << "]";
+        const double tolerance = std::max(0.02 * std::abs(expected), 3 * stddev);
         EXPECT_NEAR(p.value[c], expected, std::max(tolerance, 1e-9)) << p.name << "[" << c << "]";
       }
       offset += static_cast<int>(p.value.size());
@@ -118,11 +131,8 @@ TEST(Fit, LargeSetsPolishOnAllSamplesOrConvergeWhenAsked) {
   converge.polish_after = SIZE_MAX;
   const FitResult converged = fit_model(ward, data, converge);
   ASSERT_TRUE(polished.ok && converged.ok) << polished.error << converged.error;
-  // Polishing stops after polish_iterations steps (or earlier, converged); converging does not stop there.
-  EXPECT_TRUE(polished.termination.rfind("polished: 2 steps", 0) == 0 ||
-              polished.termination.rfind("CONVERGENCE", 0) == 0)
-      << polished.termination;
-  EXPECT_EQ(converged.termination.find("polished"), std::string::npos) << converged.termination;
+  // Polishing a few steps from the large subset's optimum ends within 0.1 % of converging on
+  // all samples (and never below it: converging minimises the same cost further).
   EXPECT_LE(converged.metrics.cosine, polished.metrics.cosine * (1.0 + 1e-9));
   EXPECT_NEAR(polished.metrics.cosine, converged.metrics.cosine, 1e-3 * converged.metrics.cosine);
   for (const FitResult* fit : {&polished, &converged})
@@ -201,13 +211,14 @@ TEST(Fit, UnidentifiableParameterIsFlaggedNotGivenANumber) {
   for (int i = 0; i < 50; ++i)
     data.samples.push_back({Vec3(0, 0, 1), Vec3(0, 0, 1), ggx.shade(truth.data(), Vec3(0, 0, 1), Vec3(0, 0, 1)), 1.0});
   const FitResult fit = fit_model(ggx, data, FitOptions{});
-  bool flagged = false;
-  for (const ParameterEstimate& p : fit.parameters)
-    if (!p.identifiable) {
-      flagged = true;
-      for (double s : p.stddev) EXPECT_TRUE(std::isnan(s)) << p.name;
-    }
-  EXPECT_TRUE(flagged);
+  ASSERT_TRUE(fit.ok) << fit.error;  // a fit with undetermined parameters is still a fit
+  // It still reproduces the data exactly.
+  EXPECT_LT(fit.metrics.relative, 1e-6);
+  // Three constants (one per channel) for seven values: none of them is determined alone.
+  for (const ParameterEstimate& p : fit.parameters) {
+    EXPECT_FALSE(p.identifiable) << p.name;
+    for (double s : p.stddev) EXPECT_TRUE(std::isnan(s)) << p.name;
+  }
 }
 
 TEST(Fit, LafortuneAxisIsDeterminedOnlyUpToScale) {
@@ -241,40 +252,10 @@ TEST(Fit, EmptyOrNonFiniteInputIsAClearError) {
   EXPECT_THROW(fit_model(lambert, nan_set, FitOptions{}), Error);
 }
 
-// A model whose evaluation is NaN everywhere: its fit must fail cleanly.
-class BrokenModel final : public Model {
- public:
-  const std::string& name() const override { return name_; }
-  const std::string& summary() const override { return name_; }
-  const std::vector<ParamSpec>& parameters() const override { return lambert().parameters(); }
-  bool has_brdf() const override { return false; }
-  bool energy_conserving() const override { return false; }
-  Rgb<double> shade(const double*, const Vec3&, const Vec3&) const override { return Rgb<double>::Constant(NAN); }
-  std::optional<Rgb<double>> brdf(const double*, const Vec3&, const Vec3&) const override { return std::nullopt; }
-  Rgb<double> shade_with_jacobian(const double* values, const Vec3& l, const Vec3& v, double* jacobian) const override {
-    std::fill_n(jacobian, 9, NAN);
-    return shade(values, l, v);
-  }
-  ceres::CostFunction* new_batch_cost(const ResidualBatch& batch) const override {
-    struct Nan final : ceres::CostFunction {
-      explicit Nan(int n) {
-        set_num_residuals(n + 1);
-        mutable_parameter_block_sizes()->push_back(n);
-      }
-      bool Evaluate(double const* const*, double*, double**) const override { return false; }
-    };
-    return new Nan(static_cast<int>(batch.free_index->size()));
-  }
-
- private:
-  static const Model& lambert() { return *find_model("lambert"); }
-  std::string name_ = "broken";
-};
-
 TEST(Fit, AFailingModelDoesNotLoseTheOthers) {
   const Model& lambert = *find_model("lambert");
   const SampleSet data = synthetic(lambert, parameter_values(lambert, {"albedo=0.4"}), 500, 0.0, 1);
-  BrokenModel broken;
+  test::BrokenModel broken;
   const std::vector<FitResult> results = fit_models({&broken, &lambert}, data, FitOptions{});
   ASSERT_EQ(results.size(), 2u);
   EXPECT_FALSE(results[0].ok);

@@ -229,7 +229,8 @@ TEST(PublishedFits, MalformedFilesNameTheFileAndLine) {
   }
 }
 
-std::string published_fits_dir() { return std::string(BRDFFIT_SHARED_DIR) + "/reference/published-fits"; }
+// Bundled in data/ (BSD-3, data/published-fits/LICENSE.bbm): these checks run on every machine.
+std::string published_fits_dir() { return std::string(BRDFFIT_SOURCE_DIR) + "/data/published-fits"; }
 
 // Ngan 2005's file for each of our literature models.
 const std::vector<std::pair<const char*, const char*>> kNganFiles = {{"cook-torrance", "ngan_cooktorrance.fit"},
@@ -250,8 +251,7 @@ void expect_inside_bounds(const Model& model, const std::vector<double>& values)
 
 TEST(PublishedFits, NganFitsOfTheBenchmarkMaterialsMapToSaneValues) {
   const std::string fits_dir = published_fits_dir();
-  if (!std::filesystem::exists(fits_dir))
-    GTEST_SKIP() << fits_dir << " is absent (the shared reference data is not mounted): published fits not checked";
+  ASSERT_TRUE(std::filesystem::exists(fits_dir + "/ngan_ward.fit")) << fits_dir;
   const Vec3 off_specular_l(0, 0, 1), off_specular_v = dir(std::sqrt(3), 0, 1);  // v 60° from l = n
   for (const char* material : {"gold-metallic-paint", "blue-acrylic", "red-fabric"}) {
     SCOPED_TRACE(material);
@@ -289,8 +289,7 @@ TEST(PublishedFits, NganFitsOfTheBenchmarkMaterialsMapToSaneValues) {
 
 TEST(PublishedFits, EveryNganFitMapsInsideOurBoundsAndEveryFileParses) {
   const std::string fits_dir = published_fits_dir();
-  if (!std::filesystem::exists(fits_dir))
-    GTEST_SKIP() << fits_dir << " is absent (the shared reference data is not mounted): published fits not checked";
+  ASSERT_TRUE(std::filesystem::exists(fits_dir + "/ngan_ward.fit")) << fits_dir;
   for (const auto& [name, file] : kNganFiles) {
     const Model& model = *find_model(name);
     const auto fits = read_published_fits(fits_dir + "/" + file);

@@ -79,6 +79,34 @@ TEST(Render, SliceAndCurvesOfALambertianAreFlat) {
   EXPECT_THROW(fitted_brdf(lambert, wrong), Error);
 }
 
+TEST(Render, SliceAndCurveAxesAreTheDocumentedAngles) {
+  // A "BRDF" that reports the angles it is asked about, computed here from l and v: a transposed
+  // slice or a mirrored curve puts them in the wrong place.
+  const auto degrees = [](double radians) { return radians * 180.0 / kPi; };
+  const BrdfFunction angles = [&](const Vec3& l, const Vec3& v) {
+    const Vec3 h = (l + v).normalized();
+    return Rgb<double>(degrees(std::acos(h.z())), degrees(std::acos(std::clamp(l.dot(h), -1.0, 1.0))), 0.0);
+  };
+  const int size = 30;
+  const cv::Mat slice = half_diff_slice(angles, size);
+  for (int y = 0; y < size; y += 7)
+    for (int x = 0; x < size; x += 5) {
+      const double u = (x + 0.5) / size;
+      EXPECT_NEAR(slice.at<cv::Vec3f>(y, x)[0], u * u * 90.0, 90.0 / size) << "θh at column " << x;
+      EXPECT_NEAR(slice.at<cv::Vec3f>(y, x)[1], (y + 0.5) / size * 90.0, 90.0 / size) << "θd at row " << y;
+    }
+
+  // The curve: luminance of (a, a, a) is a; a = θo in degrees, signed, positive away from the
+  // light, plus 100. The light is on the -x side at θi.
+  const BrdfFunction outgoing = [&](const Vec3& l, const Vec3& v) {
+    EXPECT_NEAR(degrees(std::atan2(-l.x(), l.z())), 30.0, 1e-9);
+    return Rgb<double>::Constant(100.0 + degrees(std::atan2(v.x(), v.z())));
+  };
+  const std::vector<double> curve = in_plane_curve(outgoing, 30.0, 19);
+  ASSERT_EQ(curve.size(), 19u);
+  for (int i = 0; i < 19; ++i) EXPECT_NEAR(curve[i], 100.0 - 89.0 + i * 178.0 / 18, 1e-6) << i;
+}
+
 TEST(Render, ToneMapPutsTheReferenceAtThreeQuartersGreyAndRollsOffToWhite) {
   cv::Mat linear(1, 4, CV_32FC3);
   linear.at<cv::Vec3f>(0, 0) = cv::Vec3f::all(0.5f);  // the reference

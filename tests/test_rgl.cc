@@ -2,6 +2,8 @@
 // plausibility of the shared measurements, samples and rejected files.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 #include <random>
 
@@ -100,7 +102,7 @@ const Vec3 l_off_axis = test::dir(0.3, -0.2, 1), v_off_axis = test::dir(-0.4, 0.
 Vec3 turned_90(const Vec3& d) { return Vec3(-d.y(), d.x(), d.z()); }  // about the normal
 
 TEST(Rgl, MatchesThePublicLoaderOnTheSharedFiles) {
-  if (test::shared_rgl_files().empty()) GTEST_SKIP() << "the shared RGL files (" << test::kSharedDir << "/data/rgl) are absent";
+  SKIP_UNLESS_SHARED(!test::shared_rgl_files().empty(), "the shared RGL files (" << test::kSharedDir << "/data/rgl)");
   for (const std::string& path : test::shared_rgl_files()) {
     const RglBrdf brdf = RglBrdf::read(path);
     EXPECT_TRUE(brdf.isotropic()) << path;
@@ -142,7 +144,7 @@ TEST(Rgl, BundledDemoFileIsTheSharedIbizaSunset) {
 
 TEST(Rgl, AlbedoAtMostOneAndApproximatelyReciprocal) {
   const std::vector<std::string> files = test::shared_rgl_files();
-  if (files.empty()) GTEST_SKIP() << "the shared RGL files (" << test::kSharedDir << "/data/rgl) are absent";
+  SKIP_UNLESS_SHARED(!files.empty(), "the shared RGL files (" << test::kSharedDir << "/data/rgl)");
   std::mt19937_64 rng(3);
   for (const std::string& path : files) {
     SCOPED_TRACE(path);
@@ -171,14 +173,29 @@ TEST(Rgl, SamplesLieOnTheDocumentedHalfDifferenceGrid) {
   const RglBrdf brdf = synthetic(false);
   const SampleSet set = brdf.samples(SamplingOptions{});
   EXPECT_EQ(set.weighting, "solid-angle");
-  const HalfDiffGrid grid{RglBrdf::kSampleGrid[0], RglBrdf::kSampleGrid[1], RglBrdf::kSampleGrid[2], kPi};
+  // The documented grid, 64 θh x 64 θd x 90 φd bins over φd in [0, 180°), centres by hand:
+  // θh = ((iθh+½)/64)²·90°, θd = (iθd+½)/64·90°, φd = (iφd+½)·2°; one sample per centre whose
+  // directions are both above the horizon (counted with test::pair_from_angles).
   size_t above = 0;
-  grid.for_each_bin_above_horizon([&](int, int, int, const Vec3&, const Vec3&, double) { ++above; });
+  for (int ih = 0; ih < 64; ++ih)
+    for (int id = 0; id < 64; ++id)
+      for (int ip = 0; ip < 90; ++ip) {
+        const double u = (ih + 0.5) / 64;
+        const auto [l, v] = test::pair_from_angles(u * u * 90, (id + 0.5) / 64 * 90, (ip + 0.5) * 2, 0.0);
+        above += l.z() > 0 && v.z() > 0;
+      }
   ASSERT_EQ(set.size(), above);
   double weight_sum = 0.0;
   for (const Sample& s : set.samples) {
     weight_sum += s.weight;
     ASSERT_NEAR(s.l.y() + s.v.y(), 0.0, 1e-12) << "isotropic: half vectors at φh = 0";
+    // On a centre: √(θh/90°)·64 and θd/90°·64 are a whole number and a half.
+    const Vec3 h = (s.l + s.v).normalized();
+    const double th = std::atan2(std::hypot(h.x(), h.y()), h.z()) * 180 / kPi;
+    const double td = std::atan2(s.l.cross(h).norm(), s.l.dot(h)) * 180 / kPi;
+    const double uh = std::sqrt(th / 90) * 64 - 0.5, ud = td / 90 * 64 - 0.5;
+    ASSERT_NEAR(uh, std::round(uh), 1e-5) << "θh " << th;
+    ASSERT_NEAR(ud, std::round(ud), 1e-5) << "θd " << td;
   }
   EXPECT_NEAR(weight_sum, 2 * kPi * kPi, 0.03 * 2 * kPi * kPi);  // as for MERL bins
   for (size_t i = 0; i < set.size(); i += 997) {
@@ -308,7 +325,7 @@ TEST(Rgl, RejectsSharedFilesCutShortAndMissingFiles) {
   expect_error([] { RglBrdf::read("/nonexistent/x.bsdf"); }, {"/nonexistent/x.bsdf", "cannot open"});
   expect_error([] { open_measured("/nonexistent/x.bsdf"); }, {"/nonexistent/x.bsdf", "cannot open"});
   const std::vector<std::string> files = test::shared_rgl_files();
-  if (files.empty()) GTEST_SKIP() << "the shared RGL files (" << test::kSharedDir << "/data/rgl) are absent";
+  SKIP_UNLESS_SHARED(!files.empty(), "the shared RGL files (" << test::kSharedDir << "/data/rgl)");
   const std::string bytes = read_file(files[0]);
   expect_error([&] { RglBrdf::parse(bytes.substr(0, bytes.size() / 2), "half.bsdf"); }, {"half.bsdf", "truncated"});
   // Through the dispatcher, by content and by extension.

@@ -39,10 +39,9 @@ void expect_error(Body&& body, const std::vector<std::string>& parts) {
 
 const std::string kDiligentBall = BRDFFIT_SHARED_DIR "/data/diligent-ball";
 
-#define SKIP_WITHOUT_DILIGENT()                                                                                 \
-  if (!fs::exists(kDiligentBall + "/filenames.txt"))                                                           \
-  GTEST_SKIP() << "DiLiGenT ball not found at " << kDiligentBall << " (shared data absent; research use only, " \
-               << "never copied into the project)"
+#define SKIP_WITHOUT_DILIGENT()                                                              \
+  SKIP_UNLESS_SHARED(fs::exists(kDiligentBall + "/filenames.txt"),                           \
+                     "the DiLiGenT ball at " << kDiligentBall << " (research use only, never copied into the project)")
 
 const Model& ggx() { return *find_model("ggx"); }
 std::vector<double> ggx_truth() {
@@ -75,7 +74,11 @@ TEST(ImageIo, RoundTripsEveryEncoding) {
   // 8-bit files are sRGB unless told otherwise.
   EXPECT_EQ(read_image_info(dir + "/c.png").bits, 8);
   const cv::Mat codes = read_image(dir + "/c.png", Decoding{Transfer::Linear});
-  EXPECT_NEAR(codes.at<cv::Vec3f>(0, 32)[0], 0.7379, 0.005);  // sRGB encoding of 32/63
+  // The stored code of 32/63: the sRGB curve 1.055·x^(1/2.4) − 0.055 (IEC 61966-2-1) gives
+  // 0.74058, code 189 (a gamma-2.2 encoding would give 0.73500, code 187).
+  const double srgb = 1.055 * std::pow(32.0 / 63.0, 1 / 2.4) - 0.055;
+  ASSERT_EQ(std::lround(255 * srgb), 189);
+  EXPECT_NEAR(codes.at<cv::Vec3f>(0, 32)[0], 189.0 / 255.0, 1e-6);
   const cv::Mat gamma = read_image(dir + "/c.png", parse_gamma("2.2"));
   EXPECT_NEAR(gamma.at<cv::Vec3f>(0, 32)[0], std::pow(codes.at<cv::Vec3f>(0, 32)[0], 2.2), 1e-4);
   // Nothing but the written files is left behind.

@@ -6,6 +6,7 @@
 #include <array>
 #include <filesystem>
 #include <cstdio>
+#include <cstdlib>
 #include <random>
 #include <string>
 #include <vector>
@@ -38,6 +39,23 @@ inline std::vector<double> random_values(const Model& model, std::mt19937_64& rn
     }
   return values;
 }
+
+// Whether this is a CI run (CI=true): there ../shared is always present, so a test that needs it
+// fails instead of skipping (a missing mount must not pass as green).
+inline bool running_in_ci() {
+  const char* ci = std::getenv("CI");
+  return ci && std::string(ci) == "true";
+}
+
+// Skips the test when data beside the project (../shared) is absent, saying what is missing;
+// fails under CI=true. `what` may be a stream expression: "the MERL proxies (" << dir << ")".
+#define SKIP_UNLESS_SHARED(present, what)                                                            \
+  do {                                                                                               \
+    if (!(present)) {                                                                                \
+      if (::brdffit::test::running_in_ci()) FAIL() << what << " absent, and CI=true needs ../shared"; \
+      GTEST_SKIP() << what << " absent (the shared data beside the project is not mounted)";          \
+    }                                                                                                \
+  } while (0)
 
 inline Vec3 dir(double x, double y, double z) { return Vec3(x, y, z).normalized(); }
 

@@ -53,7 +53,10 @@ class Model {
   virtual const std::string& summary() const = 0;  // one line: formula and source
   virtual const std::vector<ParamSpec>& parameters() const = 0;
   virtual bool has_brdf() const = 0;          // physically based: f exists and is reciprocal
-  virtual bool energy_conserving() const = 0;  // directional albedo <= 1 inside the bounds
+  // Every lobe is normalised: inside the bounds each linear parameter's term alone (and what
+  // remains with all of them at 0, e.g. Schlick's grazing Fresnel) has directional albedo <= 1.
+  // The terms are not coupled, so their sum can exceed 1 (albedo 1 plus a lobe).
+  virtual bool energy_conserving() const = 0;
 
   virtual Rgb<double> shade(const double* values, const Vec3& l, const Vec3& v) const = 0;
   virtual std::optional<Rgb<double>> brdf(const double* values, const Vec3& l, const Vec3& v) const = 0;

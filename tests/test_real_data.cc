@@ -1,0 +1,89 @@
+// Fits of real measurements, so that a fitter change that loses quality on real data fails
+// here: the bundled RGL vinyl (always present), and with ../shared the MERL proxies against the
+// fits Ngan, Durand & Matusik 2005 published for the same materials (bundled in data/).
+#include <gtest/gtest.h>
+
+#include "brdffit/fit.h"
+#include "brdffit/measured.h"
+#include "brdffit/published_fits.h"
+#include "tables_test_util.h"
+
+namespace brdffit {
+namespace {
+
+const std::string kBundledRgl = std::string(BRDFFIT_SOURCE_DIR) + "/data/cc_ibiza_sunset_rgb.bsdf";
+const std::string kPublishedFits = std::string(BRDFFIT_SOURCE_DIR) + "/data/published-fits";
+
+FitResult fit(const std::string& model, const SampleSet& data) {
+  const FitResult result = fit_model(*find_model(model), data, FitOptions{});
+  EXPECT_TRUE(result.ok) << model << ": " << result.error;
+  return result;
+}
+
+TEST(RealData, BundledRglVinylFitsAsWellAsItDid) {
+  SamplingOptions sampling;
+  sampling.max_samples = 20000;
+  const SampleSet data = load_samples(kBundledRgl, sampling);
+  ASSERT_EQ(data.size(), 20000u);  // a deterministic subset (the seed of SamplingOptions)
+  const FitResult lambert = fit("lambert", data), ggx = fit("ggx", data), ward = fit("ward", data);
+
+  // The fits' own error is the metric recomputed on the data.
+  for (const FitResult* f : {&lambert, &ggx, &ward})
+    EXPECT_NEAR(f->metrics.cosine, evaluate_metrics(*find_model(f->model), f->values, data).cosine,
+                1e-9 * f->metrics.cosine);
+  // Lambert: the best constant albedo/π·cosθi has a closed form, Σ wᵢ mᵢ cᵢ / Σ wᵢ cᵢ² per channel
+  // (c = cosθi/π): the fitted albedo must be it.
+  for (int ch = 0; ch < 3; ++ch) {
+    double num = 0.0, den = 0.0;
+    for (const Sample& s : data.samples) {
+      const double c = std::max(s.l.z(), 0.0) / kPi;
+      num += s.weight * s.value[ch] * c;
+      den += s.weight * c * c;
+    }
+    EXPECT_NEAR(lambert.values[ch], std::clamp(num / den, 0.0, 1.0), 1e-6) << "channel " << ch;
+  }
+  // The models containing Lambert are never worse than it, and a lobe explains the vinyl's
+  // highlight much better. Regression bounds: the errors measured when this test was written
+  // (cosine: lambert 0.10586, ggx 0.082362, ward 0.055264) plus 2 %.
+  EXPECT_LE(ggx.metrics.cosine, lambert.metrics.cosine);
+  EXPECT_LE(ward.metrics.cosine, lambert.metrics.cosine);
+  EXPECT_LT(lambert.metrics.cosine, 0.10586 * 1.02);
+  EXPECT_LT(ggx.metrics.cosine, 0.082362 * 1.02);
+  EXPECT_LT(ward.metrics.cosine, 0.055264 * 1.02);
+}
+
+// Our fit against Ngan's published one on the same samples of a MERL proxy, under our metric:
+// minimising it directly, ours must be no worse. (Ngan fitted the measured MERL table, which the
+// proxy approximates, with another metric; a fitter caught in a local minimum loses to it.)
+// Measured when written, ours/theirs: gold-metallic-paint ward 0.92, cook-torrance 0.70;
+// blue-acrylic 0.88, 0.58; red-fabric 0.76, 0.75.
+class MerlAgainstNgan : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(MerlAgainstNgan, OurFitIsNoWorseThanThePublishedOne) {
+  const std::string path = test::merl_proxy(GetParam());
+  SKIP_UNLESS_SHARED(!path.empty(), "the shared MERL proxies (" << test::kSharedDir << "/data/merl-proxy)");
+  SamplingOptions sampling;
+  sampling.max_angle_deg = 80.0;  // as Ngan
+  sampling.max_samples = 20000;
+  const SampleSet data = load_samples(path, sampling);
+  for (const auto& [model_name, file] : {std::pair<const char*, const char*>{"ward", "ngan_ward.fit"},
+                                         {"cook-torrance", "ngan_cooktorrance.fit"}}) {
+    SCOPED_TRACE(model_name);
+    const Model& model = *find_model(model_name);
+    const auto published = find_published_fit(kPublishedFits + "/" + file, GetParam(), model);
+    ASSERT_TRUE(published.has_value());
+    const double theirs = evaluate_metrics(model, published->values, data).cosine;
+    const FitResult ours = fit(model_name, data);
+    EXPECT_LE(ours.metrics.cosine, theirs * (1.0 + 1e-6)) << "published " << theirs;
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(RealData, MerlAgainstNgan, ::testing::Values("gold-metallic-paint", "blue-acrylic", "red-fabric"),
+                         [](const ::testing::TestParamInfo<const char*>& info) {
+                           std::string name = info.param;
+                           std::replace(name.begin(), name.end(), '-', '_');
+                           return name;
+                         });
+
+}  // namespace
+}  // namespace brdffit
