@@ -173,6 +173,7 @@ void run_batch_command(const BatchArgs& args) {
   options.jobs = args.jobs;
   options.resume = args.resume;
   const std::vector<BatchMaterial> materials = batch_materials(args.inputs, args.out);
+  const OutputFolderLock lock(args.out);  // held until the summary is written
   const int jobs = std::min<int>(args.jobs, static_cast<int>(materials.size()));
   fmt::print("batch: {} materials x {} models, {} at a time with {} threads each; results in {}\n", materials.size(),
              options.models.size(), jobs, args.threads > 0 ? args.threads : std::max(1, thread_count(0) / jobs), args.out);
@@ -255,13 +256,22 @@ std::vector<FitDocument> read_documents(const std::vector<std::string>& inputs) 
   return documents;
 }
 
+// The files the documents were read from (the inputs of compare and report).
+std::vector<std::string> document_paths(const std::vector<FitDocument>& documents) {
+  std::vector<std::string> paths;
+  for (const FitDocument& document : documents) paths.push_back(document.path);
+  return paths;
+}
+
 struct CompareArgs {
   std::vector<std::string> results;
   std::string metric, csv, markdown;
 };
 
 void run_compare(const CompareArgs& args) {
+  check_outputs(args.results, {args.csv, args.markdown});
   const std::vector<FitDocument> documents = read_documents(args.results);
+  check_outputs(document_paths(documents), {args.csv, args.markdown});
   const Metric metric = args.metric.empty() ? common_metric(documents) : metric_from(args.metric);
   const Comparison comparison = compare_results(documents, metric);
   fmt::print("{}", comparison_text(comparison));
@@ -293,6 +303,7 @@ struct RenderArgs {
 };
 
 void run_render(const RenderArgs& args) {
+  check_outputs({args.input}, {args.out});
   const SphereLighting lighting = args.lighting.lighting();
   cv::Mat sphere;
   std::string what;
@@ -332,7 +343,11 @@ struct ReportArgs {
 };
 
 void run_report(const ReportArgs& args) {
+  check_outputs(args.results, {args.out});
   const std::vector<FitDocument> documents = read_documents(args.results);
+  std::vector<std::string> inputs = document_paths(documents);
+  for (const FitDocument& document : documents) inputs.push_back(document.input_path);
+  check_outputs(inputs, {args.out});
   ReportOptions options;
   if (!args.metric.empty()) options.metric = metric_from(args.metric);
   options.lighting = args.lighting.lighting();
@@ -361,6 +376,7 @@ void run_export(const ExportArgs& args) {
     if (format.empty()) fail("--format: gltf or mitsuba (not implied by the name {})", args.out);
   }
   if (format != "gltf" && format != "mitsuba") fail("--format: gltf or mitsuba, not '{}'", format);
+  check_outputs({args.result}, {args.out});
   const FitDocument document = read_fit_document(args.result);
   const MetallicRoughness mr = metallic_roughness_of(document);
   write_file_atomic(args.out, format == "gltf" ? gltf_material(document) : mitsuba_bsdf(document));
@@ -382,8 +398,9 @@ void add_batch_commands(CLI::App& app) {
   batch_cmd->add_flag("--per-channel", batch->per_channel, "Fit shape parameters per colour channel");
   batch->converge.add_to(batch_cmd);
   batch_cmd->add_option("--out", batch->out, "Folder for the result documents and summary.{json,csv}")->capture_default_str();
-  batch_cmd->add_option("--jobs", batch->jobs, "Materials fitted at once")->capture_default_str()->check(CLI::PositiveNumber);
-  batch_cmd->add_option("--threads", batch->threads, "Threads per material (0: the cores shared among the jobs)");
+  batch_cmd->add_option("--jobs", batch->jobs, "Materials fitted at once")->capture_default_str()->check(kJobsRange);
+  batch_cmd->add_option("--threads", batch->threads, "Threads per material (0: the cores shared among the jobs)")
+      ->check(kThreadsRange);
   batch_cmd->add_flag("--resume", batch->resume, "Skip materials whose result document is complete and current");
   batch->sampling.add_to(batch_cmd);
   batch_cmd->callback([batch] { run_batch_command(*batch); });
@@ -413,7 +430,7 @@ void add_batch_commands(CLI::App& app) {
   report_cmd->add_option("results", report->results, "Result documents, or folders of them (a batch's --out)")->required();
   report_cmd->add_option("--out", report->out, "The page to write (.html)")->required();
   report_cmd->add_option("--metric", report->metric, "Rank by: cosine, log, relative, l2 (default: the documents')");
-  report_cmd->add_option("--top", report->top, "Picture only the best N models of each material (0: all)")->capture_default_str();
+  report_cmd->add_option("--top", report->top, "Picture only the best N models of each material (0: all)")->capture_default_str()->check(kCountRange);
   report_cmd->add_option("--size", report->size, "Sphere size in pixels")->capture_default_str()->check(CLI::Range(16, 1024));
   report->lighting.add_to(report_cmd);
   report_cmd->callback([report] { run_report(*report); });

@@ -19,16 +19,6 @@ namespace brdffit::cli {
 
 namespace {
 
-std::string format_parameter(const ParameterEstimate& p) {
-  std::string text = p.name + "=" + format_values(p.value, "{:.4g}");
-  if (!p.identifiable)
-    text += " (not identifiable)";
-  else if (std::any_of(p.stddev.begin(), p.stddev.end(), [](double s) { return std::isfinite(s); }))
-    text += "±" + format_values(p.stddev, "{:.2g}");
-  if (p.at_bound) text += " (at bound)";
-  return text;
-}
-
 void print_ranking(const std::vector<FitResult>& results, Metric metric) {
   std::vector<const FitResult*> order;
   for (const FitResult& r : results) order.push_back(&r);
@@ -36,8 +26,8 @@ void print_ranking(const std::vector<FitResult>& results, Metric metric) {
     if (a->ok != b->ok) return a->ok;
     return a->metrics.get(metric) < b->metrics.get(metric);
   });
-  fmt::print("{:>4}  {:<18} {:>10} {:>10} {:>10} {:>10} {:>10} {:>6} {:>8}\n", "rank", "model", "cosine", "log",
-             "relative", "l2", "max", "iters", "seconds");
+  fmt::print("{:>4}  {:<18} {:<7} {:>10} {:>10} {:>10} {:>10} {:>10} {:>6} {:>8}\n", "rank", "model", "verdict",
+             "cosine", "log", "relative", "l2", "max", "iters", "seconds");
   int rank = 0;
   for (const FitResult* r : order) {
     if (!r->ok) {
@@ -45,24 +35,23 @@ void print_ranking(const std::vector<FitResult>& results, Metric metric) {
       continue;
     }
     const Metrics& m = r->metrics;
-    fmt::print("{:>4}  {:<18} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g} {:>6} {:>8.2f}\n", ++rank, r->model,
-               m.cosine, m.log, m.relative, m.l2, m.max, r->iterations, r->seconds);
-    std::string line;
-    for (const ParameterEstimate& p : r->parameters) line += (line.empty() ? "" : "  ") + format_parameter(p);
-    fmt::print("      {}\n", line);
+    fmt::print("{:>4}  {:<18} {:<7} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g} {:>6} {:>8.2f}\n", ++rank,
+               r->model, verdict_name(r->verdict), m.cosine, m.log, m.relative, m.l2, m.max, r->iterations, r->seconds);
+    fmt::print("      {}\n", format_parameters(*r));
+    print_warnings(*r, "      ");
   }
   fmt::print("ranked by the {} metric\n", metric_name(metric));
 }
 
 std::string csv_table(const std::vector<FitResult>& results) {
-  std::string csv = "model,status,cosine,log,relative,l2,max,iterations,seconds,parameters\n";
+  std::string csv = "model,status,verdict,cosine,log,relative,l2,max,iterations,seconds,parameters\n";
   for (const FitResult& r : results) {
     std::string params;
     for (const ParameterEstimate& p : r.parameters)
       params += (params.empty() ? "" : ";") + p.name + "=" + format_values(p.value, "{:.9g}");
     const Metrics& m = r.metrics;
-    csv += fmt::format("{},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{},{:.3f},\"{}\"\n", r.model, r.ok ? "ok" : "failed",
-                       m.cosine, m.log, m.relative, m.l2, m.max, r.iterations, r.seconds, params);
+    csv += fmt::format("{},{},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{},{:.3f},\"{}\"\n", r.model, r.ok ? "ok" : "failed",
+                       verdict_name(r.verdict), m.cosine, m.log, m.relative, m.l2, m.max, r.iterations, r.seconds, params);
   }
   return csv;
 }
@@ -80,6 +69,7 @@ struct FitArgs {
 };
 
 void run_fit(const FitArgs& args) {
+  check_outputs({args.data}, {args.out, args.csv});  // before the work, not after it
   FitOptions options;
   options.metric = metric_from(args.metric);
   options.loss = loss_from(args.loss);
@@ -165,7 +155,7 @@ void add_fit_commands(CLI::App& app) {
   fit_cmd->add_option("--loss", fit->loss, "Robust loss per sample: none, huber, cauchy");
   fit_cmd->add_flag("--per-channel", fit->per_channel, "Fit shape parameters per colour channel");
   fit->converge.add_to(fit_cmd);
-  fit_cmd->add_option("--threads", fit->threads, "Threads (0: every core)");
+  fit_cmd->add_option("--threads", fit->threads, "Threads (0: every core)")->check(kThreadsRange);
   fit_cmd->add_option("--out", fit->out, "Write the result document (JSON)");
   fit_cmd->add_option("--csv", fit->csv, "Write one row per model (CSV)");
   fit->sampling.add_to(fit_cmd);

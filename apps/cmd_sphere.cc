@@ -9,6 +9,7 @@
 
 #include "brdffit/capture.h"
 #include "brdffit/error.h"
+#include "brdffit/image_io.h"
 #include "brdffit/io.h"
 #include "brdffit/sphere_fit.h"
 #include "commands.h"
@@ -46,6 +47,7 @@ struct SphereArgs {
   PixelRules rules;
   ConvergeArg converge;
   std::string out, images_out, images_format = "png";
+  uint64_t max_pixels = kDefaultMaxImagePixels;
 };
 
 SphereInput sphere_input(const SphereArgs& args) {
@@ -113,19 +115,21 @@ void print_results(const std::vector<FitResult>& fits, const std::vector<PhotoEr
   for (const FitResult& f : fits) order.push_back(&f);
   const auto error_of = [&](const FitResult* f) { return f->ok ? image_error[f->model] : HUGE_VAL; };
   std::stable_sort(order.begin(), order.end(), [&](const FitResult* a, const FitResult* b) { return error_of(a) < error_of(b); });
-  fmt::print("{:<16} {:>14} {:>10} {:>8}  parameters\n", "model", "image rel. RMS", metric_name(metric), "seconds");
+  fmt::print("{:<16} {:<7} {:>14} {:>10} {:>8}  parameters\n", "model", "verdict", "image rel. RMS", metric_name(metric),
+             "seconds");
   for (const FitResult* f : order) {
     if (!f->ok) {
       fmt::print("{:<16} failed: {}\n", f->model, f->error);
       continue;
     }
-    std::string parameters;
-    for (const ParameterEstimate& p : f->parameters) parameters += " " + p.name + "=" + format_values(p.value, "{:.4g}");
-    fmt::print("{:<16} {:>14.4f} {:>10.4g} {:>8.1f} {}\n", f->model, error_of(f), f->metrics.get(metric), f->seconds, parameters);
+    fmt::print("{:<16} {:<7} {:>14.4f} {:>10.4g} {:>8.1f}  {}\n", f->model, verdict_name(f->verdict), error_of(f),
+               f->metrics.get(metric), f->seconds, format_parameters(*f));
+    print_warnings(*f, "    ");
   }
 }
 
 void run_sphere(const SphereArgs& args) {
+  set_max_image_pixels(args.max_pixels);
   FitOptions options;
   options.metric = metric_from(args.metric);
   options.loss = loss_from(args.loss);
@@ -135,6 +139,7 @@ void run_sphere(const SphereArgs& args) {
   if (args.images_format != "png" && args.images_format != "exr") fail("--images-format: png or exr, not '{}'", args.images_format);
   const std::vector<const Model*> models = parse_model_list(args.models);
   const SphereInput input = sphere_input(args);
+  check_outputs(sphere_input_files(input), {args.out});  // before the work, not after it
 
   const SphereObservation observation = observe_sphere(input);
   print_observation(observation);
@@ -160,6 +165,8 @@ struct CaptureArgs {
 };
 
 void run_capture(const CaptureArgs& args) {
+  check_outputs(capture_input_files(args.options.source), {args.out, args.response});
+  check_exposure_times(args.options.exposures);
   const CaptureResult result = capture(args.options);
   write_image(args.out, result.image);
   if (!args.response.empty()) {
@@ -201,9 +208,9 @@ void add_sphere_commands(CLI::App& app) {
   sphere->add_option("--models", args->models, "Comma-separated models, or 'all'")->capture_default_str();
   sphere->add_option("--metric", args->metric, "What to minimise: cosine, log, relative, l2")->capture_default_str();
   sphere->add_option("--loss", args->loss, "Robust loss per sample: none, huber, cauchy")->capture_default_str();
-  sphere->add_option("--max-samples", args->max_samples, "Fit a deterministic random subset of this many pixels (0: all)")->capture_default_str();
-  sphere->add_option("--seed", args->seed, "Seed of the subset");
-  sphere->add_option("--threads", args->threads, "Threads (0: every core)");
+  sphere->add_option("--max-samples", args->max_samples, "Fit a deterministic random subset of this many pixels (0: all)")->capture_default_str()->check(kCountRange);
+  sphere->add_option("--seed", args->seed, "Seed of the subset")->check(kSeedRange);
+  sphere->add_option("--threads", args->threads, "Threads (0: every core)")->check(kThreadsRange);
   args->converge.add_to(sphere);
   sphere->add_option("--max-angle", args->rules.max_angle_deg, "Leave out pixels with θi or θo above this (degrees)")
       ->capture_default_str()
@@ -214,6 +221,9 @@ void add_sphere_commands(CLI::App& app) {
   sphere->add_option("--dark", args->rules.dark, "Leave out pixels whose brightest channel is below this fraction of full scale")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
+  sphere->add_option("--max-pixels", args->max_pixels, "Refuse photographs with more pixels than this (bounds memory)")
+      ->capture_default_str()
+      ->check(kCountRange);
   sphere->add_option("--out", args->out, "Write the result document (JSON)");
   sphere->add_option("--images-out", args->images_out, "Write measured | fit | error images per model and photograph here");
   sphere->add_option("--images-format", args->images_format, "png (sRGB, for viewing) or exr (linear values)")->capture_default_str();
@@ -228,7 +238,7 @@ void add_sphere_commands(CLI::App& app) {
       ->delimiter(',');
   capture_cmd->add_option("--frames", capture_args->options.frames_per_exposure, "Frames averaged per exposure")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(kFramesRange);
   capture_cmd->add_option("--out", capture_args->out, "Image to write (EXR keeps the linear values)")->required();
   capture_cmd->add_option("--response", capture_args->response, "Write the recovered camera response (CSV: code,r,g,b)");
   capture_cmd->callback([capture_args] { run_capture(*capture_args); });

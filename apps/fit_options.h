@@ -4,6 +4,8 @@
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -16,6 +18,14 @@
 
 namespace brdffit::cli {
 
+// The ranges counts given on the command line must lie in, checked by CLI11 before a command
+// runs: a negative or absurd value (--threads -5, --max-samples -1) is a typo, never a wish.
+inline const CLI::Range kThreadsRange(0, 1024);               // --threads (0: every core)
+inline const CLI::Range kJobsRange(1, 1024);                  // --jobs
+inline const CLI::Range kCountRange(int64_t{0}, int64_t{1000000000000});  // --max-samples, --top (0: all)
+inline const CLI::Range kFramesRange(1, 100000);              // --frames
+inline const CLI::Validator& kSeedRange = CLI::NonNegativeNumber;  // --seed: any uint64, not -1 wrapped
+
 struct SamplingArgs {
   double max_angle = 90.0;
   size_t max_samples = 0;
@@ -25,8 +35,9 @@ struct SamplingArgs {
   void add_to(CLI::App* command) {
     command->add_option("--max-angle", max_angle, "Leave out samples with θi or θo above this (degrees; Ngan used 80)")
         ->check(CLI::Range(1.0, 90.0));
-    command->add_option("--max-samples", max_samples, "Fit a deterministic random subset of this many samples (0: all)");
-    command->add_option("--seed", seed, "Seed of the subset");
+    command->add_option("--max-samples", max_samples, "Fit a deterministic random subset of this many samples (0: all)")
+        ->check(kCountRange);
+    command->add_option("--seed", seed, "Seed of the subset")->check(kSeedRange);
     command->add_option("--weighting", weighting,
                         "solid-angle (Ngan 2005), or low: ÷ sinθo, Löw 2012's measure (with --metric log: Löw's E2)")
         ->check(CLI::IsMember({"solid-angle", "low"}));
@@ -55,6 +66,30 @@ inline std::string format_values(const std::vector<double>& xs, const char* form
   std::string out = "[";
   for (size_t i = 0; i < xs.size(); ++i) out += (i ? "," : "") + fmt::format(fmt::runtime(format), xs[i]);
   return out + "]";
+}
+
+// NAME=VALUE±STDDEV with its flags. A poor fit's stddevs are left out: they measure how well the
+// data pin down a model that does not describe them, which is not a precision worth printing.
+inline std::string format_parameter(const ParameterEstimate& p, Verdict verdict) {
+  std::string text = p.name + "=" + format_values(p.value, "{:.4g}");
+  if (!p.identifiable)
+    text += " (not identifiable)";
+  else if (verdict == Verdict::Good &&
+           std::any_of(p.stddev.begin(), p.stddev.end(), [](double s) { return std::isfinite(s); }))
+    text += "±" + format_values(p.stddev, "{:.2g}");
+  if (p.at_bound) text += " (at bound)";
+  return text;
+}
+
+inline std::string format_parameters(const FitResult& r) {
+  std::string line;
+  for (const ParameterEstimate& p : r.parameters) line += (line.empty() ? "" : "  ") + format_parameter(p, r.verdict);
+  return line;
+}
+
+// The result's warning lines (verdict, bounds, identifiability), each on its own indented line.
+inline void print_warnings(const FitResult& r, const char* indent) {
+  for (const std::string& w : r.warnings) fmt::print("{}warning: {}\n", indent, w);
 }
 
 inline Metric metric_from(const std::string& name) {

@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -13,6 +15,10 @@
 #include <set>
 #include <sstream>
 #include <thread>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <unistd.h>
 
 #include "brdffit/compare.h"
 #include "brdffit/error.h"
@@ -87,6 +93,10 @@ class TableList {
       if (it->is_regular_file() && has_table_extension(it->path())) found.push_back(it->path());
     }
     if (error) fail("{}: cannot list the folder: {}", folder.string(), error.message());
+    if (found.empty() && is_inside(absolute_normal(folder), skip_))
+      fail("{}: this folder is inside the output folder {} (--out), whose files are the batch's own: put the "
+           "results elsewhere with --out, or the tables in another folder",
+           folder.string(), skip_.string());
     if (found.empty()) fail("{}: no tables (.binary, .bsdf, .csv) in this folder", folder.string());
     std::sort(found.begin(), found.end());
     for (const fs::path& table : found) add_table(table);
@@ -172,7 +182,8 @@ MaterialOutcome process_material(const BatchMaterial& material, const BatchOptio
   const auto started = std::chrono::steady_clock::now();
   MaterialOutcome outcome;
   outcome.material = material;
-  const std::string result_path = (fs::path(options.out_dir) / (material.name + ".json")).string();
+  // Absolute, as the summary lists it: compare and report may run from another folder.
+  const std::string result_path = absolute_path((fs::path(options.out_dir) / (material.name + ".json")).string());
   try {
     std::optional<FitDocument> done;
     if (options.resume) done = completed_document(result_path, material, options);
@@ -198,6 +209,9 @@ MaterialOutcome process_material(const BatchMaterial& material, const BatchOptio
     outcome.error = e.what();
     outcome.fits.clear();
     outcome.result_path.clear();
+    // A document from an earlier run would read as this run's result (compare takes every *.json).
+    std::error_code ignored;
+    fs::remove(result_path, ignored);
   }
   outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return outcome;
@@ -250,12 +264,60 @@ std::vector<BatchMaterial> batch_materials(const std::vector<std::string>& input
   return materials;
 }
 
+namespace {
+
+// The pid a lock file names, or 0 when it names none.
+long lock_owner(const std::string& path) {
+  try {
+    return std::stol(read_file(path, 64));
+  } catch (const std::exception&) {
+    return 0;
+  }
+}
+
+bool process_alive(long pid) { return pid > 0 && (::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM); }
+
+}  // namespace
+
+OutputFolderLock::OutputFolderLock(const std::string& folder) {
+  std::error_code error;
+  fs::create_directories(folder, error);
+  if (error || !fs::is_directory(folder))
+    fail("{}: cannot create the output folder{}", folder, error ? ": " + error.message() : "");
+  path_ = (fs::path(folder) / kLockName).string();
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    const int fd = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+    if (fd >= 0) {
+      const std::string pid = std::to_string(::getpid()) + "\n";
+      const bool written = ::write(fd, pid.data(), pid.size()) == static_cast<ssize_t>(pid.size());
+      ::close(fd);
+      if (!written) {
+        ::unlink(path_.c_str());
+        fail("{}: cannot write the lock file", path_);
+      }
+      return;
+    }
+    if (errno != EEXIST) fail("{}: cannot create the lock file: {}", path_, std::strerror(errno));
+    const long owner = lock_owner(path_);
+    if (process_alive(owner))
+      fail("{}: another batch (pid {}) is writing into this folder; wait for it to finish, or choose another --out "
+           "(if no batch runs, remove {})",
+           folder, owner, path_);
+    ::unlink(path_.c_str());  // its owner is gone (killed): the folder is free
+  }
+  fail("{}: cannot take the lock file {}", folder, path_);
+}
+
+OutputFolderLock::~OutputFolderLock() { ::unlink(path_.c_str()); }
+
 std::vector<MaterialOutcome> run_batch(const std::vector<BatchMaterial>& materials, const BatchOptions& options,
                                        const BatchEvents& events) {
   std::error_code error;
   fs::create_directories(options.out_dir, error);
   if (error || !fs::is_directory(options.out_dir))
     fail("{}: cannot create the output folder{}", options.out_dir, error ? ": " + error.message() : "");
+
+  if (options.resume) remove_stale_temp_files(options.out_dir);
 
   const int jobs = static_cast<int>(std::clamp<size_t>(static_cast<size_t>(std::max(1, options.jobs)), 1,
                                                        std::max<size_t>(materials.size(), 1)));

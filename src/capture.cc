@@ -1,6 +1,9 @@
 #include "brdffit/capture.h"
 
 #include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <regex>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/photo.hpp>
 #include <opencv2/videoio.hpp>
@@ -52,10 +55,46 @@ cv::Mat bgr_to_rgb(const cv::Mat& bgr) {
 
 }  // namespace
 
+void check_exposure_times(const std::vector<double>& exposures) {
+  for (double t : exposures)
+    if (!(t > 0.0))
+      fail("--exposures: exposure times must be positive, not {}", t);
+    else if (!(std::isfinite(t) && t >= kMinExposure && t <= kMaxExposure))
+      fail("--exposures: exposure time {} is not between {:g} and {:g} seconds", t, kMinExposure, kMaxExposure);
+  std::vector<double> sorted = exposures;
+  std::sort(sorted.begin(), sorted.end());
+  if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
+    fail("--exposures: exposure time {} is given twice: merging needs a different time per group of frames",
+         *std::adjacent_find(sorted.begin(), sorted.end()));
+}
+
+std::vector<std::string> capture_input_files(const std::string& source) {
+  std::vector<std::string> files;
+  if (source.empty() || is_camera_index(source)) return files;
+  if (source.find('%') == std::string::npos) return {source};
+  // An image sequence: the frames a "%0Nd" pattern names, as cv::VideoCapture numbers them (from
+  // 0 or 1). The pattern is expanded here, never handed to printf.
+  static const std::regex pattern(R"(([^%]*)%(0?)([0-9]{0,3})d([^%]*))");
+  std::smatch parts;
+  if (!std::regex_match(source, parts, pattern)) return {source};
+  const bool zero_padded = parts[2].length() > 0;
+  const size_t width = parts[3].length() > 0 ? std::min<size_t>(std::stoul(parts[3].str()), 32) : 0;
+  for (int i = 0; i < 100000; ++i) {
+    std::string number = std::to_string(i);
+    if (number.size() < width) number.insert(0, width - number.size(), zero_padded ? '0' : ' ');
+    const std::string name = parts[1].str() + number + parts[4].str();
+    std::error_code error;
+    if (std::filesystem::exists(name, error))
+      files.push_back(name);
+    else if (i > 1)
+      break;
+  }
+  return files;
+}
+
 CaptureResult capture(const CaptureOptions& options) {
   if (options.frames_per_exposure < 1) fail("--frames: at least one frame per exposure");
-  for (double t : options.exposures)
-    if (!(t > 0.0)) fail("--exposures: exposure times must be positive");
+  check_exposure_times(options.exposures);
   cv::VideoCapture video = open_source(options.source);
   const bool camera = is_camera_index(options.source);
   CaptureResult result;

@@ -9,6 +9,8 @@
 #include <map>
 #include <optional>
 
+#include "brdffit/io.h"
+
 namespace brdffit {
 
 namespace {
@@ -165,15 +167,15 @@ std::string comparison_markdown(const Comparison& c) {
   md += fmt::format("| model | fitted | failed | mean {0} | median {0} | mean rank | best on |\n", metric);
   md += "|---|---:|---:|---:|---:|---:|---:|\n";
   for (const ModelSummary& m : c.models)
-    md += fmt::format("| {} | {} | {} | {} | {} | {:.2f} | {} |\n", m.model, m.materials - m.failed, m.failed,
+    md += fmt::format("| {} | {} | {} | {} | {} | {:.2f} | {} |\n", escape_markdown(m.model), m.materials - m.failed, m.failed,
                       number(m.mean_error), number(m.median_error), m.mean_rank, m.wins);
   md += "\n| material |";
-  for (const ModelSummary& m : c.models) md += " " + m.model + " |";
+  for (const ModelSummary& m : c.models) md += " " + escape_markdown(m.model) + " |";
   md += "\n|---|";
   for (size_t i = 0; i < c.models.size(); ++i) md += "---:|";
   md += "\n";
   for (const MaterialRanking& material : c.materials) {
-    md += "| " + material.material + " |";
+    md += "| " + escape_markdown(material.material) + " |";
     for (const ModelSummary& m : c.models) {
       const RankedModel* r = material.find(m.model);
       if (!r)

@@ -5,12 +5,14 @@
 #include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <opencv2/imgproc.hpp>
 
 #include "brdffit/error.h"
+#include "brdffit/io.h"
 
 namespace brdffit {
 
@@ -74,10 +76,24 @@ ImageInfo read_image_info(const std::string& path) {
   return info;
 }
 
+namespace {
+std::atomic<uint64_t> max_image_pixels{kDefaultMaxImagePixels};
+}
+
+void set_max_image_pixels(uint64_t pixels) { max_image_pixels = pixels; }
+
+uint64_t get_max_image_pixels() { return max_image_pixels; }
+
 cv::Mat read_image(const std::string& path, const Decoding& decoding) {
   const std::unique_ptr<OIIO::ImageInput> in = open_image(path);
   const OIIO::ImageSpec& spec = in->spec();
   const int channels = spec.nchannels;
+  // Checked on the header, before the pixels are allocated (4 bytes per channel and pixel).
+  const uint64_t pixels = static_cast<uint64_t>(std::max(spec.width, 0)) * static_cast<uint64_t>(std::max(spec.height, 0));
+  if (pixels > max_image_pixels)
+    fail("{}: {}x{} pixels, more than the limit of {} pixels (raise it with --max-pixels)", path, spec.width,
+         spec.height, max_image_pixels.load());
+  if (spec.depth > 1 || channels < 1 || channels > 64) fail("{}: not a 2D image with 1 to 64 channels", path);
   OIIO::ImageBuf file(OIIO::ImageSpec(spec.width, spec.height, channels, OIIO::TypeDesc::FLOAT));
   if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, file.localpixels()))
     fail("{}: cannot read image: {}", path, in->geterror());
@@ -125,18 +141,9 @@ void write_image(const std::string& path, const cv::Mat& rgb, Encoding encoding)
                                                                  : OIIO::TypeDesc::FLOAT;
 
   // The temporary name keeps the extension, which tells OpenImageIO the format.
-  const fs::path temporary =
-      target.parent_path() / ("." + target.stem().string() + ".tmp" + std::to_string(::getpid()) + target.extension().string());
-  if (!buf.write(temporary.string(), stored)) {
-    std::remove(temporary.c_str());
-    fail("{}: cannot write image: {}", path, buf.geterror());
-  }
-  std::error_code error;
-  fs::rename(temporary, target, error);
-  if (error) {
-    std::remove(temporary.c_str());
-    fail("{}: cannot write image: {}", path, error.message());
-  }
+  replace_file_atomic(path, target.extension().string(), [&](const std::string& temporary) {
+    return buf.write(temporary, stored) ? std::string() : buf.geterror();
+  });
 }
 
 void srgb_to_linear(cv::Mat& rgb) { convert_colours(rgb, "sRGB", "linear"); }

@@ -34,7 +34,7 @@ std::vector<double> read_numbers(const nlohmann::json& j) {
 
 nlohmann::json metrics_json(const Metrics& m) {
   return {{"cosine", number(m.cosine)}, {"log", number(m.log)}, {"relative", number(m.relative)},
-          {"l2", number(m.l2)},         {"max", number(m.max)}};
+          {"l2", number(m.l2)},         {"max", number(m.max)},           {"typical", number(m.typical)}};
 }
 
 Verdict verdict_from(const std::string& name, const std::string& path) {
@@ -50,6 +50,55 @@ const char* loss_name(LossKind loss) {
     case LossKind::None: break;
   }
   return "none";
+}
+
+// The flattened value slots of a model: for each value, its parameter.
+std::vector<const ParamSpec*> value_specs(const Model& model) {
+  std::vector<const ParamSpec*> slots;
+  for (const ParamSpec& p : model.parameters())
+    for (int c = 0; c < p.channels; ++c) slots.push_back(&p);
+  return slots;
+}
+
+// Fails naming the file and field unless x lies within the parameter's bounds (a hair of
+// rounding allowed: documents store values to 17 digits).
+void check_in_bounds(double x, const ParamSpec& spec, const std::string& where) {
+  const double slack = 1e-9 * std::max(1.0, spec.upper - spec.lower);
+  if (!std::isfinite(x) || x < spec.lower - slack || x > spec.upper + slack)
+    fail("{}: {} = {} is outside the bounds [{}, {}] of {}", where, spec.name, x, spec.lower, spec.upper, spec.name);
+}
+
+// A fitted value vector as the model needs it: one finite number per flattened value, each in
+// its parameter's bounds.
+std::vector<double> read_value_vector(const nlohmann::json& j, const Model& model, const std::string& where) {
+  const std::vector<const ParamSpec*> slots = value_specs(model);
+  if (!j.is_array() || j.size() != slots.size())
+    fail("{}: expected an array of the {} values of {}, found {}", where, slots.size(), model.name(),
+         j.is_array() ? std::to_string(j.size()) + " values" : std::string(j.type_name()));
+  std::vector<double> values;
+  for (size_t i = 0; i < slots.size(); ++i) {
+    if (!j[i].is_number()) fail("{}[{}]: not a number", where, i);
+    values.push_back(j[i].get<double>());
+    check_in_bounds(values.back(), *slots[i], fmt::format("{}[{}]", where, i));
+  }
+  return values;
+}
+
+// Checks a model result read back from `path` against the model's parameter list: the value
+// vectors' sizes, every parameter's name, number of values and bounds. Failed results carry no
+// values to check.
+void validate_result(const FitResult& r, const Model& model, const std::string& where) {
+  if (!r.ok) return;
+  if (!r.channel_values.empty() && r.channel_values.size() != 3)
+    fail("{}.channel_values: {} vectors, expected one per channel (3)", where, r.channel_values.size());
+  for (const ParameterEstimate& e : r.parameters) {
+    const ParamSpec* spec = model.find_parameter(e.name);
+    if (!spec) fail("{}.parameters: {} has no parameter '{}'", where, model.name(), e.name);
+    const std::string field = where + ".parameters." + e.name + ".value";
+    if (e.value.size() != static_cast<size_t>(spec->channels) && e.value.size() != 3)
+      fail("{}: {} values, {} has {}", field, e.value.size(), e.name, spec->channels);
+    for (double x : e.value) check_in_bounds(x, *spec, field);
+  }
 }
 
 }  // namespace
@@ -89,7 +138,7 @@ nlohmann::json fit_document_json(const std::string& input_path, const SampleSet&
   }
   return {{"schema", kSchema},
           {"tool", "brdffit " BRDFFIT_VERSION},
-          {"input", {{"path", input_path}, {"sha256", sha256.empty() ? nlohmann::json(nullptr) : nlohmann::json(sha256)}}},
+          {"input", {{"path", absolute_path(input_path)}, {"sha256", sha256.empty() ? nlohmann::json(nullptr) : nlohmann::json(sha256)}}},
           {"samples", data.size()},
           {"weighting", data.weighting},
           {"metric", metric_name(options.metric)},
@@ -110,15 +159,32 @@ FitDocument read_fit_document(const std::string& path) {
     if (!doc.json.is_object() || doc.json.value("schema", 0) != kSchema)
       fail("{}: not a brdffit result (schema {} expected)", path, kSchema);
     doc.input_path = doc.json.at("input").at("path").get<std::string>();
+    if (!doc.json.at("models").is_array()) fail("{}: models: not an array", path);
+    size_t index = 0;
     for (const auto& m : doc.json.at("models")) {
+      const std::string where = fmt::format("{}: models[{}]", path, index++);
       FitResult r;
       r.model = m.at("model").get<std::string>();
-      r.ok = m.at("status") == "ok";
+      const Model* model = find_model(r.model);
+      if (!model) fail("{}.model: '{}' is not a model of this version of brdffit", where, r.model);
+      const std::string status = m.at("status").get<std::string>();
+      if (status != "ok" && status != "failed") fail("{}.status: '{}', expected ok or failed", where, status);
+      r.ok = status == "ok";
       if (!r.ok && m.at("error").is_string()) r.error = m.at("error").get<std::string>();
       r.verdict = verdict_from(m.value("verdict", r.ok ? "good" : "failed"), path);
       r.warnings = m.value("warnings", std::vector<std::string>{});
-      r.values = m.at("values").get<std::vector<double>>();
-      if (m.contains("channel_values")) r.channel_values = m.at("channel_values").get<std::vector<std::vector<double>>>();
+      if (r.ok) {
+        r.values = read_value_vector(m.at("values"), *model, where + ".values");
+        if (m.contains("channel_values")) {
+          const nlohmann::json& channels = m.at("channel_values");
+          if (!channels.is_array() || channels.size() != 3)
+            fail("{}.channel_values: expected one value vector per channel (3)", where);
+          for (size_t c = 0; c < 3; ++c)
+            r.channel_values.push_back(read_value_vector(channels[c], *model, fmt::format("{}.channel_values[{}]", where, c)));
+        }
+      } else {
+        r.values = read_numbers(m.value("values", nlohmann::json::array()));  // nothing to use: kept for the record
+      }
       for (const auto& [name, p] : m.at("parameters").items()) {
         ParameterEstimate e;
         e.name = name;
@@ -128,8 +194,9 @@ FitDocument read_fit_document(const std::string& path) {
         e.at_bound = p.value("at_bound", false);
         r.parameters.push_back(e);
       }
-      // JSON objects come back sorted by name; a known model's own order reads better.
-      if (const Model* model = find_model(r.model)) {
+      validate_result(r, *model, where);
+      // JSON objects come back sorted by name; the model's own order reads better.
+      {
         const std::vector<ParamSpec> specs = model->parameters();
         auto position = [&](const ParameterEstimate& e) {
           return std::find_if(specs.begin(), specs.end(), [&](const ParamSpec& p) { return p.name == e.name; }) -
@@ -141,6 +208,7 @@ FitDocument read_fit_document(const std::string& path) {
       const auto& metrics = m.at("metrics");
       auto metric = [&](const char* key) { return metrics.at(key).is_number() ? metrics.at(key).get<double>() : NAN; };
       r.metrics = {metric("cosine"), metric("log"), metric("relative"), metric("l2"), metric("max")};
+      if (metrics.contains("typical")) r.metrics.typical = metric("typical");
       r.iterations = m.value("iterations", 0);
       r.termination = m.value("termination", "");
       r.seconds = m.value("seconds", 0.0);

@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <random>
+
+#include "brdffit/error.h"
 
 namespace brdffit {
 
@@ -39,6 +42,24 @@ void apply_sampling_options(SampleSet& set, const SamplingOptions& options) {
   }
   // Return unused memory only when it is worth a transient copy of what remains.
   if (samples.size() < samples.capacity() / 2) samples.shrink_to_fit();
+}
+
+void check_sample_magnitudes(const SampleSet& set) {
+  const std::string source = set.source.empty() ? "input" : set.source;
+  double sum_of_squares = 0.0;
+  for (size_t i = 0; i < set.samples.size(); ++i) {
+    const Sample& s = set.samples[i];
+    if (!s.value.allFinite() || !std::isfinite(s.weight) || s.weight < 0.0)
+      fail("{}: sample {} has a non-finite value or an invalid weight", source, i + 1);
+    const double largest = s.value.cwiseAbs().maxCoeff();
+    if (largest > kMaxSampleMagnitude || s.weight > kMaxSampleMagnitude)
+      fail("{}: sample {} has a value or weight of {:.3g}, beyond the {:.0e} the fitter accepts (rescale the data)",
+           source, i + 1, std::max(largest, s.weight), kMaxSampleMagnitude);
+    sum_of_squares += s.weight * s.value.squaredNorm();
+  }
+  if (!std::isfinite(sum_of_squares) || sum_of_squares > std::sqrt(std::numeric_limits<double>::max()))
+    fail("{}: the weighted sum of squared values ({:.3g}) would overflow the fitter's cost (rescale the data)", source,
+         sum_of_squares);
 }
 
 }  // namespace brdffit

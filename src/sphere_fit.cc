@@ -352,6 +352,15 @@ nlohmann::json json_of(const SphereView& view) {
 
 }  // namespace
 
+std::vector<std::string> sphere_input_files(const SphereInput& input) {
+  std::vector<std::string> files = input.images;
+  files.insert(files.end(), input.chrome.begin(), input.chrome.end());
+  for (const std::string* file : {&input.lights, &input.chrome_mask, &input.intensities, &input.exposures, &input.mask,
+                                  &input.normals})
+    files.push_back(*file);  // empty ones are ignored by check_outputs
+  return files;
+}
+
 nlohmann::json sphere_document_json(const std::string& input_path, const SphereInput& input,
                                     const SphereObservation& observation, const SampleSet& fitted,
                                     const FitOptions& options, const std::vector<FitResult>& fits,
@@ -387,7 +396,7 @@ nlohmann::json sphere_document_json(const std::string& input_path, const SphereI
     lights.push_back(json_array(image.light));
     nlohmann::json relative_rms = nlohmann::json::object();
     for (const PhotoError& e : errors) relative_rms[e.model] = number_or_null(e.per_image[i]);
-    images.push_back({{"path", image.path},
+    images.push_back({{"path", absolute_path(image.path)},
                       {"light", json_array(image.light)},
                       {"intensity", observation.intensities_known ? json_array(image.intensity) : nlohmann::json(nullptr)},
                       {"exposure", image.exposure},

@@ -34,6 +34,9 @@ std::vector<std::vector<double>> read_rows(const std::string& path, size_t colum
         used = 0;
       }
       if (used != field.size() || !std::isfinite(x)) fail("{}:{}: '{}' is not a finite number", path, number, field);
+      if (x != 0.0 && (std::abs(x) < kMinLightNumber || std::abs(x) > kMaxLightNumber))
+        fail("{}:{}: '{}' is out of range (numbers here are 0 or between {:g} and {:g} in size)", path, number, field,
+             kMinLightNumber, kMaxLightNumber);
       row.push_back(x);
     }
     if (row.empty()) continue;

@@ -61,13 +61,33 @@ struct BatchEvents {
   std::function<void(const MaterialOutcome&)> finished;
 };
 
+// Holds a batch's output folder for one process: creates the folder and in it the lock file
+// kLockName holding the owner's pid, removed when the lock is destroyed. Throws Error naming the
+// folder and the owner when another live process (or this one) holds it; a lock file whose
+// owner is gone (a killed batch) is taken over. Held around run_batch and the summary, so two
+// batches never overwrite each other's results.
+class OutputFolderLock {
+ public:
+  static constexpr const char* kLockName = ".brdffit-batch.lock";
+  explicit OutputFolderLock(const std::string& folder);
+  ~OutputFolderLock();
+  OutputFolderLock(const OutputFolderLock&) = delete;
+  OutputFolderLock& operator=(const OutputFolderLock&) = delete;
+
+ private:
+  std::string path_;
+};
+
 // Fits every material with every model, options.jobs materials at a time, each table read only
 // when its turn comes (memory holds at most `jobs` tables). Each material's result document
 // (fit_document_json, plus "material") is written atomically to <out_dir>/<name>.json as soon as
 // it is fitted; a material that fails is recorded and the others go on. With resume, a material
 // is skipped when its document exists, names the same input with the same SHA-256, the same
 // metric, per-channel and loss settings, and holds every requested model fitted ok. Returns one
-// outcome per material, in input order. Throws Error only for an unusable output folder.
+// outcome per material, in input order. A material that fails leaves no result document: an
+// older one (from a previous run, for an input since changed) is removed, so it cannot be taken
+// for this run's. With resume, temporary files a killed run left in out_dir are removed first.
+// The caller holds an OutputFolderLock on out_dir. Throws Error only for an unusable output folder.
 std::vector<MaterialOutcome> run_batch(const std::vector<BatchMaterial>& materials, const BatchOptions& options,
                                        const BatchEvents& events = {});
 

@@ -25,6 +25,17 @@ struct CaptureResult {
   int frames = 0;    // frames read
 };
 
+// Exposure times brdffit accepts (seconds, or the driver's proportional units).
+constexpr double kMinExposure = 1e-9, kMaxExposure = 1e6;
+
+// Throws Error unless every exposure time is finite and within [kMinExposure, kMaxExposure] and
+// no time is given twice (identical exposures leave the camera response undetermined).
+void check_exposure_times(const std::vector<double>& exposures);
+
+// The files a source reads: a video file itself, an image sequence's existing frames, none for a
+// camera. For checking that an output is none of them.
+std::vector<std::string> capture_input_files(const std::string& source);
+
 // A single exposure is taken to be sRGB-encoded and decoded. Throws Error naming the source
 // when it cannot be opened, runs out of frames or gives frames of different sizes.
 CaptureResult capture(const CaptureOptions& options);

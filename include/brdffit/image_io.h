@@ -5,6 +5,7 @@
 // writes the files. Integer files are read normalised to [0, 1] (the largest code is 1).
 #pragma once
 
+#include <cstdint>
 #include <opencv2/core.hpp>
 #include <string>
 
@@ -36,6 +37,13 @@ struct ImageInfo {
 
 // Throws Error naming the file when it is missing or not an image OpenImageIO reads.
 ImageInfo read_image_info(const std::string& path);
+
+// The most pixels read_image reads from one file (a bound on memory: each pixel takes 12 bytes
+// and more while decoding); larger files are refused with an error naming the limit. Process-wide,
+// set from the command line (--max-pixels).
+constexpr uint64_t kDefaultMaxImagePixels = uint64_t{100} << 20;  // about 10000x10000
+void set_max_image_pixels(uint64_t pixels);
+uint64_t get_max_image_pixels();
 
 // Reads an image as linear RGB (grey images are spread over the three channels, alpha and any
 // further channels are dropped). Throws Error naming the file when it cannot be read or holds

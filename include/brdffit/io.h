@@ -1,22 +1,69 @@
-// File helpers: whole-or-nothing writes and whole-file reads with clear errors, checksums, and
-// escaping text for the HTML and XML files brdffit writes.
+// File helpers: whole-or-nothing writes and size-bounded reads of regular files with clear
+// errors, the check that no output is an input, checksums, and escaping text for the HTML and
+// XML files brdffit writes.
 #pragma once
 
+#include <cstdint>
+#include <functional>
 #include <string>
+#include <vector>
 
 namespace brdffit {
 
-// Writes to a temporary file beside `path`, flushes it and renames it over `path`, so readers
-// see the old file or the complete new one, never a partial one. Throws Error on failure.
+// Largest file read_file reads unless told otherwise: well above any table brdffit knows (a
+// MERL 90x90x360 table is 70 MB), so that a device or a runaway file is refused before it is
+// read rather than after memory ran out.
+constexpr uint64_t kMaxInputBytes = uint64_t{4} << 30;
+
+// Writes to a temporary file created exclusively (mkstemp) in `path`'s folder, flushes it and
+// renames it over `path`, so readers see the old file or the complete new one, never a partial
+// one. `path` must be a regular file or not exist: a device, FIFO or folder is refused, and a
+// symbolic link is replaced by the file, its target left alone. Throws Error on failure.
 void write_file_atomic(const std::string& path, const std::string& contents);
 
-// Reads a whole file into memory; throws Error naming the file when it cannot.
-std::string read_file(const std::string& path);
+// The same for writers that need a file name (e.g. an image library choosing the format by the
+// extension): `write` fills the temporary file `temp_path`, created exclusively beside `path`
+// and ending like it in `extension` (e.g. ".png"), and returns an error message, empty on
+// success; then it is renamed over `path`. Throws Error naming `path` on failure.
+void replace_file_atomic(const std::string& path, const std::string& extension,
+                         const std::function<std::string(const std::string& temp_path)>& write);
+
+// Reads a whole regular file into memory; throws Error naming the file when it cannot, when it
+// is not a regular file (a FIFO is refused without blocking) or when it is larger than max_bytes.
+std::string read_file(const std::string& path, uint64_t max_bytes = kMaxInputBytes);
+
+// Throws Error naming `path` unless it is a regular file (following links) no larger than max_bytes;
+// returns its size. For readers that stream a file instead of reading it whole.
+uint64_t check_input_file(const std::string& path, uint64_t max_bytes = kMaxInputBytes);
+
+// Commands call this before they start work: throws Error when an output is the same file as an
+// input or as another output (by device and inode, so other spellings of a path and hard links
+// count), or is an existing file that is not a regular file. Empty paths are ignored (an output
+// not asked for); outputs that do not exist yet only need distinct spellings, compared after
+// making them absolute and normal. Inputs that are folders are compared like files.
+void check_outputs(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs);
+
+// `path` made absolute against the working folder and lexically normal (no . or ..), for
+// documents that name their inputs and are read from another folder.
+std::string absolute_path(const std::string& path);
 
 // SHA-256 of a file's bytes as lowercase hex.
 std::string sha256_file(const std::string& path);
 
 // Text escaped to stand in HTML or XML content and attribute values (& < > " ').
 std::string escape_markup(const std::string& text);
+
+// Text escaped to stand in a Markdown table cell as plain text: HTML markup as by escape_markup
+// (Markdown passes raw HTML through), Markdown's own punctuation (\ ` * _ [ ] |) backslashed,
+// and line breaks and other control characters turned into spaces so a row stays one line.
+std::string escape_markdown(const std::string& text);
+
+// The name write_file_atomic gives its temporary files for `path` is `path` + this + a unique
+// suffix; a killed process leaves them behind (see remove_stale_temp_files).
+inline constexpr const char* kTempInfix = ".tmp.";
+
+// Removes the temporary files write_file_atomic leaves in `folder` when its process was killed
+// (names containing kTempInfix followed by a mkstemp suffix). Returns how many it removed.
+int remove_stale_temp_files(const std::string& folder);
 
 }  // namespace brdffit

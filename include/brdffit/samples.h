@@ -47,4 +47,13 @@ bool within_angle_limit(const SamplingOptions& options, const Vec3& l, const Vec
 // options.low_weighting. Works in place.
 void apply_sampling_options(SampleSet& set, const SamplingOptions& options);
 
+// Largest |value| and weight the fitter accepts: squared and summed over millions of samples
+// they must stay far from the largest double, or the solver's cost overflows to infinity.
+constexpr double kMaxSampleMagnitude = 1e100;
+
+// Throws Error naming set.source unless every sample's value and weight is finite, weights are
+// not negative, values and weights are at most kMaxSampleMagnitude in size and the weighted sum
+// of squared values is finite. The fitter calls it before any solver sees the samples.
+void check_sample_magnitudes(const SampleSet& set);
+
 }  // namespace brdffit

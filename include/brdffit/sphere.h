@@ -99,7 +99,10 @@ cv::Mat brightest_of(const std::vector<std::string>& paths, const Decoding& deco
 
 // Unit light directions, one "x y z" line per image (spaces or commas; '#' comments and blank
 // lines skipped), e.g. DiLiGenT's light_directions.txt. Throws Error naming the file for a
-// malformed line, a zero direction or a count other than `expected`.
+// malformed line, a zero direction or a count other than `expected`. Every number in these files
+// must be finite and, unless 0, between kMinLightNumber and kMaxLightNumber in size: beyond them
+// directions overflow when normalised and gains (1/(intensity·exposure)) overflow the fitter.
+constexpr double kMinLightNumber = 1e-100, kMaxLightNumber = 1e100;
 std::vector<Vec3> read_light_directions(const std::string& path, size_t expected);
 // Light intensities, one "r g b" line per image (e.g. DiLiGenT's light_intensities.txt), each
 // positive; same rules.

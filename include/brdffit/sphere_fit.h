@@ -44,6 +44,10 @@ struct SphereInput {
                                     // sampled on a coarser regular pixel grid (all pixels are still counted)
 };
 
+// Every file `input` names (images, chrome photographs, lights, masks, ...), for checking that
+// no output is one of them.
+std::vector<std::string> sphere_input_files(const SphereInput& input);
+
 // True for a DiLiGenT object folder (one with a filenames.txt).
 bool is_diligent_folder(const std::string& path);
 // Reads a DiLiGenT object folder: its filenames.txt lists the images, and light_directions.txt,

@@ -36,7 +36,7 @@ struct LowAshikhminShirley {
   }
 
   static std::vector<Nesting> nestings() {
-    return {lambert_nesting("specular")};
+    return {lambert_under_lobe("specular")};
   }
 
   template <class T>

@@ -37,7 +37,7 @@ struct LowCookTorrance {
   }
 
   static std::vector<Nesting> nestings() {
-    return {lambert_nesting("specular")};
+    return {lambert_under_lobe("specular")};
   }
 
   template <class T>

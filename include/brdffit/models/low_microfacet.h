@@ -41,7 +41,7 @@ struct LowMicrofacet {
   }
 
   static std::vector<Nesting> nestings() {
-    return {lambert_nesting("A")};
+    return {lambert_under_lobe("A")};
   }
 
   template <class T>

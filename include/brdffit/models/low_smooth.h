@@ -36,7 +36,7 @@ struct LowSmooth {
   }
 
   static std::vector<Nesting> nestings() {
-    return {lambert_nesting("A")};
+    return {lambert_under_lobe("A")};
   }
 
   template <class T>

@@ -86,7 +86,7 @@ struct Sgd {
   static double alpha_of_m(double m) { return m * m; }
   static double k_of_m(double m) { return std::exp(m * m) / (m * m); }
   static std::vector<Nesting> nestings() {
-    return {lambert_nesting("specular"),
+    return {lambert_under_lobe("specular"),
             {"cook-torrance",
              {{"albedo", "albedo"},
               {"specular", "specular"},
