@@ -114,7 +114,7 @@ TEST(Sgd, HandValues) {
   // One set of values per channel, so each channel checks a different branch.
   const std::vector<double> p =
       values_of("sgd", {"albedo=0.1", "specular=1", "alpha=0.1,0.2,0.05", "p=0.5,0,1", "f0=0.05,0.5,0.05",
-                        "f1=0,0.2,-0.5", "K=10,5,20", "lambda=2,0,1", "c=0.5,1,1e9", "k=2,1,3", "theta0=0.2,0.5,-0.3"});
+                        "f1=0,0.2,-0.5", "K=10,5,20", "lambda=2,0,1", "c=0.5,1,1e4", "k=2,1,3", "theta0=0.2,0.5,-0.3"});
   // Mirror pair: h = n, tan²θh = 0, t = α; l·h = 0.8, θl = θv = acos 0.8.
   const double theta = std::acos(0.8), schlick = std::pow(0.2, 5);
   auto lobe = [&](double alpha, double p_, double f0, double f1, double K, double g1) {
@@ -124,12 +124,12 @@ TEST(Sgd, HandValues) {
   };
   // R: θ > θ0 = 0.2: G1 = 1 + 2(1 − exp(0.5 (θ − 0.2)²)).
   const double g1_r = 1 + 2 * (1 - std::exp(0.5 * std::pow(theta - 0.2, 2)));
-  // G: Λ = 0, G1 = 1. B: θ0 < 0 and c = 1e9: c (θ+0.3)³ is far above the cap, G1 clamps to 0.
+  // G: Λ = 0, G1 = 1. B: θ0 < 0 and c = 1e4: c (θ+0.3)³ = 8390 is above the cap, G1 clamps to 0.
   expect_rgb_near(brdf("sgd", p, kL, kMirrorV),
                   Rgb<double>(0.1 / kPi + lobe(0.1, 0.5, 0.05, 0, 10, g1_r), 0.1 / kPi + lobe(0.2, 0, 0.5, 0.2, 5, 1),
                               0.1 / kPi));
   // At normal incidence (θ = 0): R and G below θ0 (G1 = 1); B with θ0 = −0.3 still applies
-  // the formula: c·0.3³ = 2.7e7, clamped to 0. l·h = 1: F = f0 − f1.
+  // the formula: c·0.3³ = 270, above the cap, clamped to 0. l·h = 1: F = f0 − f1.
   const double d_r = 10 * std::exp(-0.1) / std::pow(0.1, 0.5) / kPi, d_g = 5 * std::exp(-0.2) / kPi;
   expect_rgb_near(brdf("sgd", p, kN, kN),
                   Rgb<double>(0.1 / kPi + d_r * 0.05 / kPi, 0.1 / kPi + d_g * 0.3 / kPi, 0.1 / kPi));

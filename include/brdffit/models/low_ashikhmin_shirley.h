@@ -29,10 +29,10 @@ struct LowAshikhminShirley {
 
   static std::vector<ParamSpec> parameters() {
     return {albedo_param(),
-            specular_param(10.0, 0.2, "scale of the specular lobe per channel (Löw's LowAshikhminShirley albedo)"),
-            {"n", 1, 0.01, 1e6, 50.0, "exponent on n·h: larger is a sharper lobe (Löw's sharpness)", Role::Exponent,
+            specular_param(5.0, 0.2, "scale of the specular lobe per channel (Löw's LowAshikhminShirley albedo)"),
+            {"n", 1, 0.001, 1e6, 50.0, "exponent on n·h: larger is a sharper lobe (Löw's sharpness)", Role::Exponent,
              false, false, Spacing::Log},
-            {"eta", 1, 1.0, 20.0, 1.5, "index of refraction of Cook's Fresnel (Löw's fresnelReflectance)", Role::F0}};
+            {"eta", 1, 1.0, 12.0, 1.5, "index of refraction of Cook's Fresnel (Löw's fresnelReflectance)", Role::F0}};
   }
 
   static std::vector<Nesting> nestings() {

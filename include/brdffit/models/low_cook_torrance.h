@@ -30,10 +30,10 @@ struct LowCookTorrance {
 
   static std::vector<ParamSpec> parameters() {
     return {albedo_param(),
-            specular_param(10.0, 0.1, "scale of the specular lobe per channel (Löw's LowCookTorrance albedo)"),
-            {"m", 1, 0.001, 1.0, 0.2, "Beckmann roughness: RMS slope of the microfacets (Löw's roughness)",
+            specular_param(2.0, 0.1, "scale of the specular lobe per channel (Löw's LowCookTorrance albedo)"),
+            {"m", 1, 0.001, 2.5, 0.2, "Beckmann roughness: RMS slope of the microfacets (Löw's roughness)",
              Role::Roughness, false, false, Spacing::Log},
-            {"eta", 1, 1.0, 20.0, 1.5, "index of refraction of Cook's Fresnel (Löw's eta)", Role::F0}};
+            {"eta", 1, 1.0, 12.0, 1.5, "index of refraction of Cook's Fresnel (Löw's eta)", Role::F0}};
   }
 
   static std::vector<Nesting> nestings() {

@@ -31,13 +31,13 @@ struct LowMicrofacet {
 
   static std::vector<ParamSpec> parameters() {
     return {albedo_param(),
-            {"A", 3, 0.0, 100000.0, 1.0, "unnormalised scale of the lobe per channel (Löw's A)", Role::SpecularColour,
+            {"A", 3, 0.0, 10000.0, 1.0, "unnormalised scale of the lobe per channel (Löw's A)", Role::SpecularColour,
              /*linear=*/true},
-            {"B", 1, 0.01, 1e7, 100.0, "sharpness of the distribution of facet normals (Löw's B)", Role::Roughness,
+            {"B", 1, 1.0, 1e7, 100.0, "sharpness of the distribution of facet normals (Löw's B)", Role::Roughness,
              false, false, Spacing::Log},
-            {"C", 1, 0.0, 10.0, 1.0, "exponent of the distribution's fall-off: the shape of its tail (Löw's C)",
+            {"C", 1, 0.0, 3.0, 1.0, "exponent of the distribution's fall-off: the shape of its tail (Löw's C)",
              Role::Shape},
-            {"eta", 1, 1.0, 20.0, 1.5, "index of refraction of Cook's Fresnel (Löw's eta)", Role::F0}};
+            {"eta", 1, 1.0, 12.0, 1.5, "index of refraction of Cook's Fresnel (Löw's eta)", Role::F0}};
   }
 
   static std::vector<Nesting> nestings() {

@@ -27,12 +27,12 @@ struct LowSmooth {
 
   static std::vector<ParamSpec> parameters() {
     return {albedo_param(),
-            {"A", 3, 0.0, 100000.0, 1.0, "unnormalised scale of the lobe per channel (Löw's A)", Role::SpecularColour,
+            {"A", 3, 0.0, 10000.0, 1.0, "unnormalised scale of the lobe per channel (Löw's A)", Role::SpecularColour,
              /*linear=*/true},
-            {"B", 1, 0.01, 1e7, 100.0, "sharpness: how fast the lobe falls away from the mirror direction (Löw's B)",
+            {"B", 1, 1.0, 1e7, 100.0, "sharpness: how fast the lobe falls away from the mirror direction (Löw's B)",
              Role::Roughness, false, false, Spacing::Log},
-            {"C", 1, 0.0, 10.0, 1.0, "exponent of the fall-off: the shape of the lobe's tail (Löw's C)", Role::Shape},
-            {"eta", 1, 1.0, 20.0, 1.5, "index of refraction of Cook's Fresnel (Löw's eta)", Role::F0}};
+            {"C", 1, 0.0, 3.0, 1.0, "exponent of the fall-off: the shape of the lobe's tail (Löw's C)", Role::Shape},
+            {"eta", 1, 1.0, 12.0, 1.5, "index of refraction of Cook's Fresnel (Löw's eta)", Role::F0}};
   }
 
   static std::vector<Nesting> nestings() {
