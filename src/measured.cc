@@ -1,7 +1,9 @@
 // Choosing a reader for a measured input.
 #include "brdffit/measured.h"
 
+#include <cerrno>
 #include <cstring>
+#include <fstream>
 
 #include "brdffit/csv_samples.h"
 #include "brdffit/error.h"
@@ -43,6 +45,17 @@ std::unique_ptr<MeasuredBrdf> parse_table(const std::string& path, const std::st
   fail("{}: a CSV of samples is not a table that can be evaluated at any pair of directions", path);
 }
 
+// The first bytes of a regular file, enough for detect_format.
+std::string read_head(const std::string& path) {
+  check_input_file(path);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail("{}: cannot open: {}", path, std::strerror(errno));
+  std::string head(16, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<size_t>(in.gcount()));
+  return head;
+}
+
 }  // namespace
 
 Rgb<double> directional_albedo(const MeasuredBrdf& brdf, const Vec3& v) {
@@ -67,14 +80,16 @@ std::unique_ptr<MeasuredBrdf> open_measured(const std::string& path) {
 SampleSet load_samples(const std::string& path, const SamplingOptions& options) {
   std::unique_ptr<MeasuredBrdf> table;
   {
-    const std::string bytes = read_file(path);
-    const Format format = detect_format(path, bytes);
-    if (format == Format::Csv) {
-      SampleSet set = parse_csv_samples(bytes, path);
+    if (detect_format(path, read_head(path)) == Format::Csv) {
+      // Streamed: a CSV's text can be as large as its samples, and is never needed whole.
+      std::ifstream lines(path, std::ios::binary);
+      if (!lines) fail("{}: cannot open: {}", path, std::strerror(errno));
+      SampleSet set = read_csv_samples(lines, path);
       apply_sampling_options(set, options);
       return set;
     }
-    table = parse_table(path, bytes, format);
+    const std::string bytes = read_file(path);
+    table = parse_table(path, bytes, detect_format(path, bytes));
   }  // the file's bytes are gone before the samples are made (a MERL table's are 35 MB)
   return table->samples(options);
 }

@@ -9,11 +9,13 @@
 #include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "batch_test_util.h"
 #include "brdffit/batch.h"
 #include "brdffit/capture.h"
 #include "brdffit/compare.h"
+#include "brdffit/csv_samples.h"
 #include "brdffit/error.h"
 #include "brdffit/fit.h"
 #include "brdffit/image_io.h"
@@ -295,6 +297,17 @@ TEST(Hardening, OnlyRegularFilesWithinTheLimitAreRead) {
   const CommandResult r = run_cli("info " + dir + "/fifo");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("not a regular file"), std::string::npos) << r.output;
+}
+
+TEST(Hardening, CsvIsStreamedLineByLineWithTheSameResult) {
+  const std::string text = "# unit: degrees\ntheta_i,phi_i,theta_o,phi_o,r,g,b\n30,0,30,180,0.5,0.25,0.125\n\n60,0,0,0,1,1,1\n";
+  std::istringstream lines(text);
+  const SampleSet streamed = read_csv_samples(lines, "s.csv");
+  ASSERT_EQ(streamed.size(), 2u);
+  // f·cosθi with θi = 30°: 0.5·cos30° = 0.4330127...
+  EXPECT_NEAR(streamed.samples[0].value[0], 0.5 * std::sqrt(3.0) / 2, 1e-15);
+  EXPECT_NEAR(streamed.samples[1].value[2], 0.5, 1e-15);
+  EXPECT_EQ(parse_csv_samples(text, "s.csv").samples[0].value, streamed.samples[0].value);
 }
 
 TEST(Hardening, ImagesAboveThePixelLimitAreRefusedBeforeDecoding) {
