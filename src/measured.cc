@@ -56,6 +56,22 @@ std::string read_head(const std::string& path) {
   return head;
 }
 
+// A table file's bytes, for a format whose size is known read only up to that size: a MERL
+// table is at most 90x90x360 bins of 3 doubles, so a larger file is refused before it is read.
+std::string read_table_bytes(const std::string& path, const std::string& head) {
+  constexpr uint64_t kLargestMerl = 12 + uint64_t{3} * 90 * 90 * 360 * sizeof(double);
+  const bool merl = detect_format(path, head) == Format::Merl;
+  return read_file(path, merl ? kLargestMerl : kMaxInputBytes);
+}
+
+// A CSV's samples, read from the file line by line: its text can be as large as its samples
+// and is never needed whole.
+SampleSet stream_csv_samples(const std::string& path) {
+  std::ifstream lines(path, std::ios::binary);
+  if (!lines) fail("{}: cannot open: {}", path, std::strerror(errno));
+  return read_csv_samples(lines, path);
+}
+
 }  // namespace
 
 Rgb<double> directional_albedo(const MeasuredBrdf& brdf, const Vec3& v) {
@@ -73,32 +89,32 @@ Rgb<double> directional_albedo(const MeasuredBrdf& brdf, const Vec3& v) {
 }
 
 std::unique_ptr<MeasuredBrdf> open_measured(const std::string& path) {
-  const std::string bytes = read_file(path);
+  const std::string bytes = read_table_bytes(path, read_head(path));
   return parse_table(path, bytes, detect_format(path, bytes));
 }
 
 SampleSet load_samples(const std::string& path, const SamplingOptions& options) {
   std::unique_ptr<MeasuredBrdf> table;
   {
-    if (detect_format(path, read_head(path)) == Format::Csv) {
-      // Streamed: a CSV's text can be as large as its samples, and is never needed whole.
-      std::ifstream lines(path, std::ios::binary);
-      if (!lines) fail("{}: cannot open: {}", path, std::strerror(errno));
-      SampleSet set = read_csv_samples(lines, path);
+    const std::string head = read_head(path);
+    if (detect_format(path, head) == Format::Csv) {
+      SampleSet set = stream_csv_samples(path);
       apply_sampling_options(set, options);
       return set;
     }
-    const std::string bytes = read_file(path);
+    const std::string bytes = read_table_bytes(path, head);
     table = parse_table(path, bytes, detect_format(path, bytes));
   }  // the file's bytes are gone before the samples are made (a MERL table's are 35 MB)
   return table->samples(options);
 }
 
 TableInfo describe_measured(const std::string& path) {
-  const std::string bytes = read_file(path);
-  const Format format = detect_format(path, bytes);
-  if (format != Format::Csv) return parse_table(path, bytes, format)->info();
-  const SampleSet set = parse_csv_samples(bytes, path);
+  const std::string head = read_head(path);
+  if (detect_format(path, head) != Format::Csv) {
+    const std::string bytes = read_table_bytes(path, head);
+    return parse_table(path, bytes, detect_format(path, bytes))->info();
+  }
+  const SampleSet set = stream_csv_samples(path);
   TableInfo info;
   info.format = "csv";
   info.resolution = std::to_string(set.size()) + " samples";
