@@ -17,16 +17,6 @@ namespace brdffit::cli {
 
 namespace {
 
-std::string format_parameter(const ParameterEstimate& p) {
-  std::string text = p.name + "=" + format_values(p.value, "{:.4g}");
-  if (!p.identifiable)
-    text += " (not identifiable)";
-  else if (std::any_of(p.stddev.begin(), p.stddev.end(), [](double s) { return std::isfinite(s); }))
-    text += "±" + format_values(p.stddev, "{:.2g}");
-  if (p.at_bound) text += " (at bound)";
-  return text;
-}
-
 void print_ranking(const std::vector<FitResult>& results, Metric metric) {
   std::vector<const FitResult*> order;
   for (const FitResult& r : results) order.push_back(&r);
@@ -34,8 +24,8 @@ void print_ranking(const std::vector<FitResult>& results, Metric metric) {
     if (a->ok != b->ok) return a->ok;
     return a->metrics.get(metric) < b->metrics.get(metric);
   });
-  fmt::print("{:>4}  {:<18} {:>10} {:>10} {:>10} {:>10} {:>10} {:>6} {:>8}\n", "rank", "model", "cosine", "log",
-             "relative", "l2", "max", "iters", "seconds");
+  fmt::print("{:>4}  {:<18} {:<7} {:>10} {:>10} {:>10} {:>10} {:>10} {:>6} {:>8}\n", "rank", "model", "verdict",
+             "cosine", "log", "relative", "l2", "max", "iters", "seconds");
   int rank = 0;
   for (const FitResult* r : order) {
     if (!r->ok) {
@@ -43,24 +33,23 @@ void print_ranking(const std::vector<FitResult>& results, Metric metric) {
       continue;
     }
     const Metrics& m = r->metrics;
-    fmt::print("{:>4}  {:<18} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g} {:>6} {:>8.2f}\n", ++rank, r->model,
-               m.cosine, m.log, m.relative, m.l2, m.max, r->iterations, r->seconds);
-    std::string line;
-    for (const ParameterEstimate& p : r->parameters) line += (line.empty() ? "" : "  ") + format_parameter(p);
-    fmt::print("      {}\n", line);
+    fmt::print("{:>4}  {:<18} {:<7} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g} {:>6} {:>8.2f}\n", ++rank,
+               r->model, verdict_name(r->verdict), m.cosine, m.log, m.relative, m.l2, m.max, r->iterations, r->seconds);
+    fmt::print("      {}\n", format_parameters(*r));
+    print_warnings(*r, "      ");
   }
   fmt::print("ranked by the {} metric\n", metric_name(metric));
 }
 
 std::string csv_table(const std::vector<FitResult>& results) {
-  std::string csv = "model,status,cosine,log,relative,l2,max,iterations,seconds,parameters\n";
+  std::string csv = "model,status,verdict,cosine,log,relative,l2,max,iterations,seconds,parameters\n";
   for (const FitResult& r : results) {
     std::string params;
     for (const ParameterEstimate& p : r.parameters)
       params += (params.empty() ? "" : ";") + p.name + "=" + format_values(p.value, "{:.9g}");
     const Metrics& m = r.metrics;
-    csv += fmt::format("{},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{},{:.3f},\"{}\"\n", r.model, r.ok ? "ok" : "failed",
-                       m.cosine, m.log, m.relative, m.l2, m.max, r.iterations, r.seconds, params);
+    csv += fmt::format("{},{},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{},{:.3f},\"{}\"\n", r.model, r.ok ? "ok" : "failed",
+                       verdict_name(r.verdict), m.cosine, m.log, m.relative, m.l2, m.max, r.iterations, r.seconds, params);
   }
   return csv;
 }

@@ -115,15 +115,16 @@ void print_results(const std::vector<FitResult>& fits, const std::vector<PhotoEr
   for (const FitResult& f : fits) order.push_back(&f);
   const auto error_of = [&](const FitResult* f) { return f->ok ? image_error[f->model] : HUGE_VAL; };
   std::stable_sort(order.begin(), order.end(), [&](const FitResult* a, const FitResult* b) { return error_of(a) < error_of(b); });
-  fmt::print("{:<16} {:>14} {:>10} {:>8}  parameters\n", "model", "image rel. RMS", metric_name(metric), "seconds");
+  fmt::print("{:<16} {:<7} {:>14} {:>10} {:>8}  parameters\n", "model", "verdict", "image rel. RMS", metric_name(metric),
+             "seconds");
   for (const FitResult* f : order) {
     if (!f->ok) {
       fmt::print("{:<16} failed: {}\n", f->model, f->error);
       continue;
     }
-    std::string parameters;
-    for (const ParameterEstimate& p : f->parameters) parameters += " " + p.name + "=" + format_values(p.value, "{:.4g}");
-    fmt::print("{:<16} {:>14.4f} {:>10.4g} {:>8.1f} {}\n", f->model, error_of(f), f->metrics.get(metric), f->seconds, parameters);
+    fmt::print("{:<16} {:<7} {:>14.4f} {:>10.4g} {:>8.1f}  {}\n", f->model, verdict_name(f->verdict), error_of(f),
+               f->metrics.get(metric), f->seconds, format_parameters(*f));
+    print_warnings(*f, "    ");
   }
 }
 

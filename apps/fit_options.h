@@ -4,6 +4,8 @@
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -60,6 +62,30 @@ inline std::string format_values(const std::vector<double>& xs, const char* form
   std::string out = "[";
   for (size_t i = 0; i < xs.size(); ++i) out += (i ? "," : "") + fmt::format(fmt::runtime(format), xs[i]);
   return out + "]";
+}
+
+// NAME=VALUE±STDDEV with its flags. A poor fit's stddevs are left out: they measure how well the
+// data pin down a model that does not describe them, which is not a precision worth printing.
+inline std::string format_parameter(const ParameterEstimate& p, Verdict verdict) {
+  std::string text = p.name + "=" + format_values(p.value, "{:.4g}");
+  if (!p.identifiable)
+    text += " (not identifiable)";
+  else if (verdict == Verdict::Good &&
+           std::any_of(p.stddev.begin(), p.stddev.end(), [](double s) { return std::isfinite(s); }))
+    text += "±" + format_values(p.stddev, "{:.2g}");
+  if (p.at_bound) text += " (at bound)";
+  return text;
+}
+
+inline std::string format_parameters(const FitResult& r) {
+  std::string line;
+  for (const ParameterEstimate& p : r.parameters) line += (line.empty() ? "" : "  ") + format_parameter(p, r.verdict);
+  return line;
+}
+
+// The result's warning lines (verdict, bounds, identifiability), each on its own indented line.
+inline void print_warnings(const FitResult& r, const char* indent) {
+  for (const std::string& w : r.warnings) fmt::print("{}warning: {}\n", indent, w);
 }
 
 inline Metric metric_from(const std::string& name) {

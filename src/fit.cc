@@ -9,7 +9,10 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <functional>
+#include <map>
 #include <random>
+#include <set>
 
 #include "brdffit/error.h"
 #include "brdffit/fit_residual.h"
@@ -53,20 +56,31 @@ std::unique_ptr<ceres::LossFunction> make_loss(LossKind kind, double scale) {
 // ---------------------------------------------------------------------------------------------
 // Plain evaluation: cost and residuals with doubles.
 
-// Σ over samples and fitted channels of the squared (robustified, weighted) residual.
+// Σ over samples and fitted channels of the squared (robustified, weighted) residual; the
+// objective every stage minimises and every candidate is judged by. Parallel over chunks
+// when the set is large (the final selection evaluates it on every sample).
 double cost_of(const Model& model, const std::vector<double>& values, const std::vector<Sample>& samples,
-               Metric metric, const Channels& channels, const ceres::LossFunction* loss) {
-  double sum = 0.0;
-  for (const Sample& s : samples) {
-    const Rgb<double> shade = model.shade(values.data(), s.l, s.v);
-    const double sqrt_w = std::sqrt(metric_weight(metric, s.weight));
-    for (int c = 0; c < 3; ++c) {
-      if (!channels[c]) continue;
-      double r, scale;
-      detail::robustify(loss, metric_residual(metric, shade[c], s.value[c]) * sqrt_w, r, scale);
-      sum += r * r;
+               Metric metric, const Channels& channels, const ceres::LossFunction* loss, int threads = 1) {
+  const size_t chunks = samples.size() >= 50000 ? 64 : 1;
+  const size_t per_chunk = (samples.size() + chunks - 1) / chunks;
+  std::vector<double> partial(chunks, 0.0);
+  parallel_for(chunks, chunks > 1 ? threads : 1, [&](size_t chunk) {
+    double sum = 0.0;
+    const size_t end = std::min(samples.size(), (chunk + 1) * per_chunk);
+    for (size_t i = chunk * per_chunk; i < end; ++i) {
+      const Sample& s = samples[i];
+      const Rgb<double> shade = model.shade(values.data(), s.l, s.v);
+      const double sqrt_w = std::sqrt(metric_weight(metric, s.weight));
+      for (int c = 0; c < 3; ++c) {
+        if (!channels[c]) continue;
+        double r, scale;
+        detail::robustify(loss, metric_residual(metric, shade[c], s.value[c]) * sqrt_w, r, scale);
+        sum += r * r;
+      }
     }
-  }
+    partial[chunk] = sum;
+  });
+  const double sum = std::accumulate(partial.begin(), partial.end(), 0.0);
   return std::isfinite(sum) ? sum : HUGE_VAL;
 }
 
@@ -322,7 +336,6 @@ class LeastSquares {
     estimate_covariance(problem, x, thread_count(options_.threads), r);
   }
 
- private:
   // Values the solver optimises: all but integer parameters and the colour components of channels
   // this fit leaves alone.
   std::vector<int> free_values() const {
@@ -333,6 +346,7 @@ class LeastSquares {
     return free;
   }
 
+ private:
   // One residual block per batch of samples over the free values x, with the bounds.
   void build_problem(Refinement& r, std::vector<double>& x, ceres::Problem& problem) const {
     x.clear();
@@ -409,9 +423,14 @@ class LeastSquares {
 // A deterministic subset of about `count` samples standing in for all of them in the early,
 // cheap stages. A measured table's error is dominated by few samples (a specular peak covers
 // few bins with large values), which a uniform subset would mostly miss; so samples are drawn
-// with probability ∝ weight·(value + mean value)² by systematic sampling, and each kept sample's
-// weight is divided by its expected count so sums over the subset estimate sums over all.
-std::vector<Sample> subsample(const std::vector<Sample>& samples, size_t count, uint64_t seed) {
+// with probability ∝ weight·(value + error + mean value)² by systematic sampling, and each kept
+// sample's weight is divided by its expected count so sums over the subset estimate sums over
+// all. `error` is the current fit's absolute residual where one is known: without it a subset
+// drawn where the data are bright never sees where the model is bright and the data are not
+// (a narrow grazing spike of a sharp lobe on a matte material), and a stage on it walks into
+// that spike.
+std::vector<Sample> subsample(const std::vector<Sample>& samples, size_t count, uint64_t seed,
+                              const std::vector<double>& error = {}) {
   if (samples.size() <= count) return samples;
   double mean = 0.0, weight_sum = 0.0;
   for (const Sample& s : samples) {
@@ -422,11 +441,12 @@ std::vector<Sample> subsample(const std::vector<Sample>& samples, size_t count, 
   std::vector<double> score(samples.size());
   double total = 0.0;
   for (size_t i = 0; i < samples.size(); ++i) {
-    const double m = samples[i].value.cwiseAbs().mean() + mean;
+    const double m = samples[i].value.cwiseAbs().mean() + (error.empty() ? 0.0 : error[i]) + mean;
     score[i] = samples[i].weight * m * m;
     total += score[i];
   }
-  if (!(total > 0.0)) return std::vector<Sample>(samples.begin(), samples.begin() + static_cast<std::ptrdiff_t>(count));
+  if (!(total > 0.0) || !std::isfinite(total))
+    return std::vector<Sample>(samples.begin(), samples.begin() + static_cast<std::ptrdiff_t>(count));
   std::vector<Sample> subset;
   subset.reserve(count);
   const double step = total / count;
@@ -448,7 +468,28 @@ std::vector<Sample> subsample(const std::vector<Sample>& samples, size_t count, 
   return subset;
 }
 
-// One fit of the given channels: multi-start on the subsample, then refinement on every sample.
+// |prediction − measurement| per sample, averaged over the fitted channels (for subsample).
+std::vector<double> absolute_errors(const Model& model, const std::vector<double>& values,
+                                    const std::vector<Sample>& samples, const Channels& channels, int threads) {
+  std::vector<double> error(samples.size());
+  const size_t chunks = 64, per_chunk = (samples.size() + chunks - 1) / chunks;
+  const int fitted = static_cast<int>(std::count(channels.begin(), channels.end(), true));
+  parallel_for(chunks, threads, [&](size_t chunk) {
+    const size_t end = std::min(samples.size(), (chunk + 1) * per_chunk);
+    for (size_t i = chunk * per_chunk; i < end; ++i) {
+      const Rgb<double> shade = model.shade(values.data(), samples[i].l, samples[i].v);
+      double sum = 0.0;
+      for (int c = 0; c < 3; ++c)
+        if (channels[c]) sum += std::fabs(shade[c] - samples[i].value[c]);
+      error[i] = std::isfinite(sum) ? sum / fitted : 0.0;
+    }
+  });
+  return error;
+}
+
+// One fit of the given channels: multi-start on the subsample, refinement on larger subsets and
+// on every sample, and the final choice among every candidate met on the way by the objective
+// on ALL samples.
 struct ChannelFit {
   Refinement final;
   int iterations = 0;
@@ -456,8 +497,10 @@ struct ChannelFit {
 };
 
 ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOptions& options,
-                        const Channels& channels, const std::vector<double>& initial) {
+                        const Channels& channels, const std::vector<double>& initial,
+                        const std::vector<std::vector<double>>& nested_starts) {
   ChannelFit fit;
+  const int threads = thread_count(options.threads);
   const std::vector<Sample> small = subsample(data.samples, options.subsample, options.seed);
   const bool small_is_all = small.size() == data.samples.size();
 
@@ -467,6 +510,11 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
   } else {
     starts = grid_starts(model, initial, small, options.metric, channels, options);
     starts.resize(std::min<size_t>(starts.size(), std::max(1, options.starts)));
+    // The contained models' optima are refined too: the multi-start grid may not come near them.
+    for (std::vector<double> nested : nested_starts) {
+      solve_linear(model, nested, small, options.metric, channels);
+      starts.push_back({nested, cost_of(model, nested, small, options.metric, channels, nullptr)});
+    }
   }
 
   double loss_scale = options.loss_scale;
@@ -476,6 +524,29 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
     loss_scale = std::max(sigma, 1e-12) * (options.loss == LossKind::Huber ? 1.345 : 2.385);
   }
   const std::unique_ptr<ceres::LossFunction> loss = make_loss(options.loss, loss_scale);
+  const LeastSquares on_all(model, data.samples, options.metric, channels, loss.get(), options);
+  auto full_cost = [&](const std::vector<double>& values) {
+    return 0.5 * cost_of(model, values, data.samples, options.metric, channels, loss.get(), threads);
+  };
+
+  // Every candidate met on the way, with its objective on all samples (½Σ, as Ceres counts).
+  // Stages work on subsets whose optimum can be worse on all samples than where they started;
+  // choosing on all samples discards such a stage, and keeping the contained models' optima
+  // among the candidates means the result is never worse than theirs.
+  std::vector<Refinement> candidates;
+  auto keep = [&](Refinement r) {
+    if (!r.usable) return;
+    r.cost = full_cost(r.values);
+    if (std::isfinite(r.cost)) candidates.push_back(std::move(r));
+  };
+  for (const std::vector<double>& nested : nested_starts) {
+    Refinement r;
+    r.values = nested;
+    r.usable = true;
+    r.termination = "the optimum of a contained model";
+    r.free_index = on_all.free_values();
+    keep(std::move(r));
+  }
 
   Refinement best;
   if (!options.single_start) {
@@ -489,38 +560,56 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
       best.values = starts[0].values;
       best.termination = "no start converged on the subsample";
     }
+    if (!small_is_all) keep(best);
   }
   // Refine on ever larger subsets (×10 each) before all samples: a large table's cost valley
-  // can be long, and walking it on a tenth of the data costs a tenth as much per step.
+  // can be long, and walking it on a tenth of the data costs a tenth as much per step. Each
+  // subset is drawn where the data or the current fit's errors are large.
   size_t largest_draws = small.size();
   std::vector<Sample> largest_subset;
   if (!options.single_start)
     for (size_t draws = small.size() * 10; draws < data.size(); draws *= 10) {
-      // Heavy samples drawn more than once are kept once, with the weight of all their draws.
-      std::vector<Sample> subset = subsample(data.samples, draws, options.seed);
+      std::vector<Sample> subset = subsample(data.samples, draws, options.seed,
+                                             absolute_errors(model, best.values, data.samples, channels, threads));
       const LeastSquares on_subset(model, subset, options.metric, channels, loss.get(), options);
       Refinement r = on_subset.run(best.values, options.max_iterations, 1e-6);
       fit.iterations += r.iterations;
-      if (r.usable) best = std::move(r);
+      if (r.usable) {
+        best = r;
+        keep(std::move(r));
+      }
       largest_draws = draws;
       largest_subset = std::move(subset);
     }
-  const bool polish = !options.single_start && largest_draws >= options.polish_after;
-  const LeastSquares on_all(model, data.samples, options.metric, channels, loss.get(), options);
+  bool polish = !options.single_start && largest_draws >= options.polish_after;
   if (options.single_start || !small_is_all) {
-    // From the subsets' optimum: to a relative cost change of 1e-6, far below any metric's
-    // reported precision, or only a few polishing steps after a large subset (FitOptions).
-    best = on_all.run(options.single_start ? initial : best.values,
-                      polish ? std::min(options.polish_iterations, options.max_iterations) : options.max_iterations, 1e-6);
-    if (polish && best.usable && best.iterations >= options.polish_iterations)
-      best.termination = fmt::format("polished: {} steps on all samples after converging on an importance subset of {} draws",
-                                     best.iterations, largest_draws);
-    fit.iterations += best.iterations;
+    // From the best candidate so far on all samples: to a relative cost change of 1e-6, far
+    // below any metric's reported precision, or only a few polishing steps after a large
+    // subset whose optimum is also the best candidate on all samples (FitOptions).
+    const Refinement* from = nullptr;
+    for (const Refinement& c : candidates)
+      if (!from || c.cost < from->cost) from = &c;
+    const std::vector<double> start = options.single_start ? initial : from ? from->values : best.values;
+    polish = polish && from && from->values == best.values;
+    Refinement r = on_all.run(start, polish ? std::min(options.polish_iterations, options.max_iterations)
+                                            : options.max_iterations, 1e-6);
+    fit.iterations += r.iterations;
+    if (polish && r.usable && r.iterations >= options.polish_iterations)
+      r.termination = fmt::format("polished: {} steps on all samples after converging on an importance subset of {} draws",
+                                  r.iterations, largest_draws);
+    keep(r);
+    if (!r.usable && candidates.empty()) best = std::move(r);  // reported as the failure it is
+  } else {
+    keep(best);
+  }
+  if (!candidates.empty()) {
+    best = *std::min_element(candidates.begin(), candidates.end(),
+                             [](const Refinement& a, const Refinement& b) { return a.cost < b.cost; });
   }
   // JᵀJ at the optimum: over all samples, or estimated from the large importance subset (its
   // weights make sums over it unbiased estimates of sums over all samples; with 100k draws the
   // standard deviations come out within about a percent, for a tenth of the time).
-  if (polish)
+  if (polish && !largest_subset.empty())
     LeastSquares(model, largest_subset, options.metric, channels, loss.get(), options).estimate_covariance(best);
   else
     on_all.estimate_covariance(best);
@@ -542,10 +631,16 @@ void report_parameters(const Model& model, const std::vector<ChannelFit>& fits, 
   // stddev per flattened value per fit (NaN unless estimated).
   std::vector<std::vector<double>> stddev(fits.size(), std::vector<double>(slots.size(), NAN));
   std::vector<std::vector<bool>> identifiable(fits.size(), std::vector<bool>(slots.size(), true));
+  std::string unknown_uncertainty;
   for (size_t f = 0; f < fits.size(); ++f) {
     const Refinement& r = fits[f].final;
-    const double dof = std::max<double>(1.0, static_cast<double>(fits[f].residuals) - r.free_index.size());
-    const double variance = 2.0 * r.cost / dof;
+    // With no more residuals than free values the residual variance is unknown, and so is every
+    // uncertainty (stddevs stay NaN) however well the values fit.
+    const double dof = static_cast<double>(fits[f].residuals) - static_cast<double>(r.free_index.size());
+    if (dof <= 0.0 && !r.free_index.empty())
+      unknown_uncertainty = fmt::format("uncertainties unknown: {} residuals for {} free values leave no degrees of freedom",
+                                        fits[f].residuals, r.free_index.size());
+    const double variance = dof > 0.0 ? 2.0 * r.cost / dof : NAN;
     for (size_t k = 0; k < r.free_index.size(); ++k) {
       const int i = r.free_index[k];
       if (!r.identifiable.empty()) identifiable[f][i] = r.identifiable[k];
@@ -573,7 +668,7 @@ void report_parameters(const Model& model, const std::vector<ChannelFit>& fits, 
     }
     result.parameters.push_back(estimate);
     offset += p.channels;
-  }
+  }  if (!unknown_uncertainty.empty()) result.warnings.push_back(unknown_uncertainty);
 }
 
 }  // namespace
@@ -587,10 +682,22 @@ const char* verdict_name(Verdict verdict) {
   return "failed";
 }
 
-FitResult fit_model(const Model& model, const SampleSet& data, const FitOptions& options) {
+namespace {
+
+// A contained model's optimum in the outer model's values, one vector per channel (the three
+// are equal unless the contained model was fitted per channel).
+using ChannelVectors = std::array<std::vector<double>, 3>;
+
+void check_fit_input(const SampleSet& data) {
   if (data.empty()) fail("{}: no samples to fit", data.source.empty() ? "input" : data.source);
   check_sample_magnitudes(data);  // before any solver: values that would overflow its cost are refused
+}
 
+// Fits one model from its grid and from the contained models' optima `nested`. A per-channel
+// fit first fits the shared model and starts each channel from it, so it contains the shared
+// fit as well.
+FitResult fit_one(const Model& model, const SampleSet& data, const FitOptions& options,
+                  const std::vector<ChannelVectors>& nested) {
   const auto started = std::chrono::steady_clock::now();
   FitResult result;
   result.model = model.name();
@@ -598,20 +705,35 @@ FitResult fit_model(const Model& model, const SampleSet& data, const FitOptions&
   if (!options.initial_values.empty() && static_cast<int>(options.initial_values.size()) != model.num_values())
     fail("{}: {} initial values given, the model has {}", model.name(), options.initial_values.size(), model.num_values());
   const std::vector<double> initial = options.initial_values.empty() ? model.default_values() : options.initial_values;
-
-  std::vector<Channels> masks;
-  if (options.per_channel)
-    masks = {Channels{true, false, false}, Channels{false, true, false}, Channels{false, false, true}};
-  else
-    masks = {kAllChannels};
+  auto nested_for = [&](int channel) {
+    std::vector<std::vector<double>> starts;
+    if (!options.single_start)
+      for (const ChannelVectors& n : nested) starts.push_back(n[channel]);
+    return starts;
+  };
 
   std::vector<ChannelFit> fits;
   std::string failure;
-  for (const Channels& mask : masks) {
-    // Each channel fit starts from the previous one's values so its other channels are sane.
-    fits.push_back(fit_channels(model, data, options, mask, fits.empty() ? initial : fits.back().final.values));
-    if (!fits.back().final.usable && failure.empty()) failure = fits.back().final.termination;
-    result.iterations += fits.back().iterations;
+  auto record = [&](ChannelFit fit) {
+    if (!fit.final.usable && failure.empty()) failure = fit.final.termination;
+    result.iterations += fit.iterations;
+    fits.push_back(std::move(fit));
+  };
+  if (!options.per_channel) {
+    record(fit_channels(model, data, options, kAllChannels, initial, nested_for(0)));
+  } else {
+    std::vector<std::vector<double>> shared_starts;
+    for (int c = 0; c < 3; ++c)
+      for (std::vector<double>& s : nested_for(c)) shared_starts.push_back(std::move(s));
+    const ChannelFit shared = fit_channels(model, data, options, kAllChannels, initial, shared_starts);
+    result.iterations += shared.iterations;
+    for (int c = 0; c < 3; ++c) {
+      Channels mask{false, false, false};
+      mask[c] = true;
+      std::vector<std::vector<double>> starts = nested_for(c);
+      if (shared.final.usable) starts.push_back(shared.final.values);
+      record(fit_channels(model, data, options, mask, shared.final.usable ? shared.final.values : initial, starts));
+    }
   }
   result.termination = fits.back().final.termination;
 
@@ -635,35 +757,197 @@ FitResult fit_model(const Model& model, const SampleSet& data, const FitOptions&
                       std::isfinite(result.metrics.get(options.metric));
   result.ok = failure.empty() && finite;
   if (!result.ok) result.error = !failure.empty() ? "the fit diverged (" + failure + ")" : "the fit produced non-finite values";
-  result.verdict = result.ok ? Verdict::Good : Verdict::Failed;
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return result;
 }
 
+// The error a model predicting zero everywhere would have: the scale of the data in the metric.
+double zero_prediction_error(const SampleSet& data, Metric metric) {
+  double sum = 0.0, weight = 0.0;
+  for (const Sample& s : data.samples)
+    for (int c = 0; c < 3; ++c) {
+      const double w = metric_weight(metric, s.weight);
+      sum += w * std::pow(metric_residual(metric, 0.0, s.value[c]), 2);
+      weight += w;
+    }
+  return weight > 0.0 ? std::sqrt(sum / weight) : 0.0;
+}
+
+std::string format_value(const std::vector<double>& v) {
+  if (v.size() == 1) return fmt::format("{:.4g}", v[0]);
+  return fmt::format("[{:.4g}, {:.4g}, {:.4g}]", v[0], v[1], v[2]);
+}
+
+// The verdict and the warning lines of a fitted result (see Verdict in fit.h). A fit is poor
+// when any of these holds:
+//   - its error in the fitted metric is more than kPoorRatio times that of the baseline, Lambert
+//     fitted to the same samples: every reflectance model should do at least as well as a
+//     diffuse term alone, and models with a Lambert base contain it;
+//   - it removes less than 1 - kPoorUnexplained of the data's own scale in that metric (the
+//     error of predicting zero): it misses what dominates the data, e.g. a diffuse model on a
+//     glossy coating;
+//   - its typical sample is off by more than kPoorTypical times its own value (Metrics::typical):
+//     it misses the body of the data, e.g. a lobe with no diffuse term on a coloured paint;
+//   - a colour or scale it solves linearly sits at its upper bound in every channel while it
+//     leaves more than kPoorClampedUnexplained of the data's scale: the data are brighter than
+//     the model can be (a stylised shader's output in place of a reflectance), and the values
+//     it reports are its limits, not the material's.
+// The thresholds were set on the shared RGL and MERL tables, where they flag the diffuse models
+// on glossy materials, toon on measured ones and single lobes that capture < 15% of a
+// mirror-like peak, and leave every model on white paper and red fabric good.
+void judge(const Model& model, const FitResult* baseline, double zero_error, Metric metric, FitResult& r) {
+  constexpr double kPoorRatio = 1.05, kPoorUnexplained = 0.85, kPoorTypical = 1.0, kPoorClampedUnexplained = 0.25;
+  if (!r.ok) {
+    r.verdict = Verdict::Failed;
+    return;
+  }
+  r.verdict = Verdict::Good;
+  const double error = r.metrics.get(metric);
+  if (baseline && baseline->ok && baseline->model != r.model) {
+    const double base = baseline->metrics.get(metric);
+    if (error > kPoorRatio * base) {
+      r.verdict = Verdict::Poor;
+      r.warnings.push_back(fmt::format("poor fit: its {} error {:.4g} is {:.2f}x that of Lambert ({:.4g}) on the same samples",
+                                       metric_name(metric), error, error / std::max(base, 1e-300), base));
+    }
+  }
+  if (zero_error > 0.0 && error > kPoorUnexplained * zero_error) {
+    r.verdict = Verdict::Poor;
+    r.warnings.push_back(fmt::format("poor fit: its {} error {:.4g} is {:.0f}% of the data's own scale ({:.4g}, the "
+                                     "error of predicting zero): it misses what dominates the data",
+                                     metric_name(metric), error, 100.0 * error / zero_error, zero_error));
+  }
+  if (r.metrics.typical > kPoorTypical) {
+    r.verdict = Verdict::Poor;
+    r.warnings.push_back(fmt::format("poor fit: a typical sample is off by {:.0f}% of its own value: it misses the "
+                                     "body of the data",
+                                     100.0 * r.metrics.typical));
+  }
+  for (const ParameterEstimate& p : r.parameters) {
+    const ParamSpec* spec = model.find_parameter(p.name);
+    const bool clamped = spec && spec->linear && std::all_of(p.value.begin(), p.value.end(), [&](double v) {
+      return v >= spec->upper - 1e-6 * (spec->upper - spec->lower);
+    });
+    if (clamped && zero_error > 0.0 && error > kPoorClampedUnexplained * zero_error) {
+      r.verdict = Verdict::Poor;
+      r.warnings.push_back(fmt::format("poor fit: {} is at its upper bound {:.4g} in every channel and the fit leaves "
+                                       "{:.0f}% of the data's scale: the data are brighter than this model can be",
+                                       p.name, spec->upper, 100.0 * error / zero_error));
+    }
+    if (p.at_bound && spec) {
+      const bool upper = std::any_of(p.value.begin(), p.value.end(),
+                                     [&](double v) { return v >= spec->upper - 1e-6 * (spec->upper - spec->lower); });
+      r.warnings.push_back(fmt::format("{} = {} sits at its {} bound {:.4g}: the data would push it further, "
+                                       "its uncertainty is only indicative",
+                                       p.name, format_value(p.value), upper ? "upper" : "lower",
+                                       upper ? spec->upper : spec->lower));
+    }
+    if (spec && spec->trades_off_with && (p.at_bound || !p.identifiable)) {
+      const ParamSpec* other = model.find_parameter(spec->trades_off_with);
+      const auto partner = std::find_if(r.parameters.begin(), r.parameters.end(),
+                                        [&](const ParameterEstimate& e) { return e.name == spec->trades_off_with; });
+      if (other && partner != r.parameters.end()) {
+        std::vector<double> product;
+        for (size_t i = 0; i < std::max(partner->value.size(), p.value.size()); ++i)
+          product.push_back(partner->value[std::min(i, partner->value.size() - 1)] *
+                            p.value[std::min(i, p.value.size() - 1)]);
+        r.warnings.push_back(fmt::format("{}·{} = {} is what the data determine (the lobe's reflectance at normal "
+                                         "incidence); {} was left where the least-squares optimum put it",
+                                         other->name, p.name, format_value(product), p.name));
+      }
+    }
+    if (!p.identifiable)
+      r.warnings.push_back(fmt::format("{} is not identifiable: the data do not determine it (it trades off with "
+                                       "other parameters); its value is one of many equally good ones",
+                                       p.name));
+  }
+}
+
+}  // namespace
+
+FitResult fit_model(const Model& model, const SampleSet& data, const FitOptions& options) {
+  return fit_models({&model}, data, options).front();
+}
+
 std::vector<FitResult> fit_models(const std::vector<const Model*>& models, const SampleSet& data,
                                   const FitOptions& options) {
-  std::vector<FitResult> results;
-  for (const Model* model : models) {
+  check_fit_input(data);
+  // Every model fitted in this run, the requested ones and those they contain, by name.
+  std::map<std::string, FitResult> fitted;
+  std::set<std::string> in_progress;
+  auto requested = [&](const std::string& name) {
+    return std::any_of(models.begin(), models.end(), [&](const Model* m) { return m->name() == name; });
+  };
+  // Fits `model` after the models it contains: exact nestings always (they carry the guarantee),
+  // approximate ones only when that model is fitted in this run anyway.
+  std::function<const FitResult&(const Model&)> fit = [&](const Model& model) -> const FitResult& {
+    if (auto it = fitted.find(model.name()); it != fitted.end()) return it->second;
+    in_progress.insert(model.name());
+    std::vector<ChannelVectors> nested;
+    for (const Nesting& nesting : model.nestings()) {
+      const Model* inner = find_model(nesting.inner);
+      if (!inner || in_progress.count(inner->name())) continue;
+      if (!nesting.exact && !requested(inner->name()) && !fitted.count(inner->name())) continue;
+      const FitResult& r = fit(*inner);
+      if (!r.ok) continue;
+      ChannelVectors embedded;
+      for (int c = 0; c < 3; ++c)
+        embedded[c] = embed_values(model, nesting, *inner, r.channel_values.empty() ? r.values : r.channel_values[c]);
+      nested.push_back(std::move(embedded));
+    }
+    FitResult result;
     try {
-      results.push_back(fit_model(*model, data, options));
+      // A start given in the options is the requested models'; contained models fitted on the
+      // way (and the baseline) start from their own grids.
+      FitOptions own = options;
+      if (!requested(model.name())) {
+        own.initial_values.clear();
+        own.single_start = false;
+      }
+      result = fit_one(model, data, own, nested);
     } catch (const Error&) {
       throw;  // bad input or options: the same for every model
     } catch (const std::exception& e) {
-      FitResult failed;
-      failed.model = model->name();
-      failed.error = e.what();
-      failed.samples = data.size();
-      results.push_back(failed);
+      result.model = model.name();
+      result.error = e.what();
+      result.samples = data.size();
     }
+    in_progress.erase(model.name());
+    return fitted.emplace(model.name(), std::move(result)).first->second;
+  };
+
+  const Model* lambert = find_model("lambert");
+  const FitResult* baseline = lambert ? &fit(*lambert) : nullptr;
+  const double zero_error = zero_prediction_error(data, options.metric);
+  std::vector<FitResult> results;
+  for (const Model* model : models) {
+    FitResult r = fit(*model);
+    judge(*model, baseline, zero_error, options.metric, r);
+    results.push_back(std::move(r));
   }
   return results;
 }
 
 Metrics evaluate_metrics(const Model& model, const std::vector<double>& values, const SampleSet& data,
                          const std::vector<std::vector<double>>& per_channel_values) {
+  // The typical relative error is a weighted median, found in a histogram of log10 of the
+  // relative error (kBinsPerDecade bins per decade from 1e-6 to 1e6: 1.2% resolution).
+  constexpr int kBinsPerDecade = 200, kDecades = 12;
+  constexpr int kBins = kBinsPerDecade * kDecades;
+  auto bin_of = [](double relative) {
+    const double position = (std::log10(std::max(relative, 1e-300)) + kDecades / 2) * kBinsPerDecade;
+    return std::clamp(static_cast<int>(position), 0, kBins - 1);
+  };
+  double mean_abs = 0.0, mean_weight = 0.0;
+  for (const Sample& s : data.samples) {
+    mean_abs += s.weight * s.value.cwiseAbs().sum();
+    mean_weight += 3.0 * s.weight;
+  }
+  const double floor = 0.1 * mean_abs / std::max(mean_weight, 1e-300) + 1e-300;
   struct Sums {
     double weight = 0, cosine = 0, log = 0, relative = 0, plain = 0, max = 0;
     size_t count = 0;
+    std::vector<double> typical = std::vector<double>(kBins, 0.0);
   };
   const size_t chunks = 64;
   std::vector<Sums> partial(chunks);
@@ -687,6 +971,7 @@ Metrics evaluate_metrics(const Model& model, const std::vector<double>& values, 
         sums.relative += s.weight * std::pow(metric_residual(Metric::Relative, p, m), 2);
         sums.plain += std::pow(p - m, 2);
         sums.max = std::max(sums.max, std::fabs(p - m));
+        sums.typical[bin_of(std::fabs(p - m) / (std::fabs(m) + floor))] += s.weight;
         ++sums.count;
       }
     }
@@ -700,6 +985,7 @@ Metrics evaluate_metrics(const Model& model, const std::vector<double>& values, 
     total.plain += s.plain;
     total.max = std::max(total.max, s.max);
     total.count += s.count;
+    for (int b = 0; b < kBins; ++b) total.typical[b] += s.typical[b];
   }
   Metrics metrics;
   if (total.count == 0) return metrics;
@@ -708,6 +994,14 @@ Metrics evaluate_metrics(const Model& model, const std::vector<double>& values, 
   metrics.relative = std::sqrt(total.relative / total.weight);
   metrics.l2 = std::sqrt(total.plain / total.count);
   metrics.max = total.max;
+  double below = 0.0;
+  for (int b = 0; b < kBins; ++b) {
+    below += total.typical[b];
+    if (below >= 0.5 * total.weight) {
+      metrics.typical = std::pow(10.0, (b + 0.5) / kBinsPerDecade - kDecades / 2);
+      break;
+    }
+  }
   return metrics;
 }
 

@@ -35,7 +35,7 @@ std::vector<double> read_numbers(const nlohmann::json& j) {
 
 nlohmann::json metrics_json(const Metrics& m) {
   return {{"cosine", number(m.cosine)}, {"log", number(m.log)}, {"relative", number(m.relative)},
-          {"l2", number(m.l2)},         {"max", number(m.max)}};
+          {"l2", number(m.l2)},         {"max", number(m.max)},           {"typical", number(m.typical)}};
 }
 
 Verdict verdict_from(const std::string& name, const std::string& path) {
@@ -209,6 +209,7 @@ FitDocument read_fit_document(const std::string& path) {
       const auto& metrics = m.at("metrics");
       auto metric = [&](const char* key) { return metrics.at(key).is_number() ? metrics.at(key).get<double>() : NAN; };
       r.metrics = {metric("cosine"), metric("log"), metric("relative"), metric("l2"), metric("max")};
+      if (metrics.contains("typical")) r.metrics.typical = metric("typical");
       r.iterations = m.value("iterations", 0);
       r.termination = m.value("termination", "");
       r.seconds = m.value("seconds", 0.0);

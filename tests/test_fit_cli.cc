@@ -60,8 +60,8 @@ TEST(FitCli, WritesTheResultDocumentAndCsv) {
   EXPECT_LT(ward["metrics"]["cosine"].get<double>(), 1e-6);
   EXPECT_GT(doc["models"][1]["metrics"]["cosine"].get<double>(), 1e-3);  // Lambert cannot fit Ward
   const std::string csv = read_file(dir + "/r.csv");
-  EXPECT_EQ(csv.rfind("model,status,cosine,log,relative,l2,max,iterations,seconds,parameters\n", 0), 0u);
-  EXPECT_NE(csv.find("\nward,ok,"), std::string::npos);
+  EXPECT_EQ(csv.rfind("model,status,verdict,cosine,log,relative,l2,max,iterations,seconds,parameters\n", 0), 0u);
+  EXPECT_NE(csv.find("\nward,ok,good,"), std::string::npos);
 
   // score agrees with the fitted metrics.
   const auto score = test::run_cli("score " + data + " --model ward --param albedo=0.3,0.2,0.1 --param specular=0.1 "

@@ -7,6 +7,9 @@
 //   relative  sqrt(Σ w ((p-m)/(m+ε))² / Σ w), ε = 1e-3  relative error, ε keeps dark bins finite
 //   l2        sqrt(Σ (p-m)² / N)                         plain RMS, weights ignored
 //   max       max |p-m|
+//   typical   weighted median of |p-m| / (|m| + m̄/10), m̄ the weighted mean |m|: how far off a
+//             typical sample is relative to its own value (not a fitting metric; the verdict
+//             uses it, since unlike the RMS metrics it is not dominated by a specular peak)
 // Sums run over samples and the fitted channels; Σ w counts each channel once.
 #pragma once
 
@@ -29,6 +32,7 @@ struct Metrics {
   double relative = NAN;
   double l2 = NAN;
   double max = NAN;
+  double typical = NAN;
 
   double get(Metric metric) const;
 };

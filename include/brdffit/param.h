@@ -35,6 +35,11 @@ struct ParamSpec {
   bool linear = false;
   bool integer = false;  // searched over its integer range rather than optimised continuously
   Spacing spacing = Spacing::Linear;
+  // A parameter whose product with this one is what the data determine (Cook-Torrance's and
+  // Ashikhmin-Shirley's specular scale and Schlick f0: away from grazing angles F ≈ f0 and
+  // only specular·f0 shows). When this one sits at a bound or is not identifiable, results
+  // report the product.
+  const char* trades_off_with = nullptr;
 };
 
 // Number of scalar values a parameter list occupies when flattened (colours take three).

@@ -20,6 +20,7 @@
 // Energy conserving within the bounds (specular ≤ 1, f0 ≤ 1 so F ≤ 1): with dωl = 4(l·h) dωh,
 // the lobe's directional albedo is (n+1)/(2π) ∫ (n·h)^n F (n·l)/max(n·l, n·v) dωh over the h
 // that keep l above the horizon, at most (n+1)/(2π) ∫ (n·h)^n dωh = 1 over the hemisphere.
+// Contains: lambert exactly (specular = 0); blinn-phong approximately (n = gloss, a start only).
 #pragma once
 
 #include "brdffit/models/common.h"
@@ -37,9 +38,14 @@ struct AshikhminShirley {
     return {albedo_param(),
             specular_param(1.0, 0.2, "scale of the specular lobe per channel (Ngan's NganAshikhminShirley albedo)"),
             {"f0", 1, 0.0, 1.0, 0.1, "Fresnel reflectance at normal incidence (Schlick; Ngan's fresnelReflectance)",
-             Role::F0},
+             Role::F0, false, false, Spacing::Linear, "specular"},
             {"n", 1, 0.1, 100000.0, 50.0, "exponent on n·h: larger is a sharper lobe (Ngan's sharpness)",
              Role::Exponent, false, false, Spacing::Log}};
+  }
+
+  static std::vector<Nesting> nestings() {
+    return {lambert_under_lobe(),
+            {"blinn-phong", {{"n", "gloss"}}, {}, false, "blinn-phong, approximately: n = gloss"}};
   }
 
   template <class T>

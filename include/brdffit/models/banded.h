@@ -10,6 +10,7 @@
 // used here gives exactly `steps` equal lit bands (levels 1/steps … 1), so steps = 1 is flat
 // lighting of every lit point. steps is an integer, searched over its range by the fitter (its
 // derivative is 0: it is read through value_of). Stylised: no BRDF.
+// Contains: lambert only approximately (32 bands, albedo/π): quantised n·l is never n·l.
 #pragma once
 
 #include <cmath>
@@ -27,6 +28,11 @@ struct Banded {
   static std::vector<ParamSpec> parameters() {
     return {albedo_param(),
             {"steps", 1, 1.0, 32.0, 4.0, "number of light bands n·l is quantised into", Role::Shape, false, true}};
+  }
+
+  static std::vector<Nesting> nestings() {
+    return {{"lambert", {{"albedo", "albedo", lambert_albedo_to_shader_albedo}}, {{"steps", 32.0}}, false,
+             "lambert, approximately: 32 bands of n·l"}};
   }
 
   template <class T>

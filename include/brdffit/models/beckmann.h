@@ -7,6 +7,7 @@
 // BRDF albedo is not bounded by 1: `specular` is a plain scale. tanθh is computed from n·h
 // (tan² = (1-cos²)/cos²) rather than the seed's |n×h|/n·h, the same value; where n·h is about 0
 // (only possible with a direction below the horizon) the lobe is 0 instead of the seed's 0/0.
+// Contains: lambert exactly (specular = 0); ggx approximately (m = roughness², a start only).
 #pragma once
 
 #include "brdffit/models/common.h"
@@ -23,6 +24,12 @@ struct Beckmann {
     return {albedo_param(), specular_param(10.0, 0.2, "scale of the Beckmann lobe per channel"),
             {"m", 1, 0.005, 1.5, 0.3, "Beckmann roughness: RMS slope of the microfacets", Role::Roughness, false, false,
              Spacing::Log}};
+  }
+
+  static std::vector<Nesting> nestings() {
+    return {lambert_under_lobe(),
+            {"ggx", {{"albedo", "albedo"}, {"m", "roughness", ggx_roughness_to_beckmann_m}}, {}, false,
+             "ggx, approximately: m = roughness²"}};
   }
 
   template <class T>

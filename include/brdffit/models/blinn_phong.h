@@ -7,6 +7,8 @@
 // gate it. `gloss` is the exponent on n·h (seed 000's _SpecularGloss). `specular` is seed 000's
 // _SpecularPower·_SpecularColor, an intensity in [0, 100] (see phong.h); gloss is in [1, 1e5]
 // (Ngan et al.'s Blinn-Phong fits of MERL reach 1.2e5). Stylised: no BRDF.
+// Contains: lambert exactly (specular = 0, albedo = Lambert's albedo/π: the shader omits 1/π);
+// phong approximately (gloss ≈ 4·shininess, a start only).
 #pragma once
 
 #include "brdffit/models/common.h"
@@ -25,6 +27,13 @@ struct BlinnPhong {
             {"gloss", 1, 1.0, 100000.0, 64.0, "Blinn exponent on n·h: larger is a smaller, sharper highlight",
              Role::Exponent, false, false, Spacing::Log}};
   }
+
+  static std::vector<Nesting> nestings() {
+    return {lambert_in_shader({{"specular", 0.0}}, "specular = 0"),
+            {"phong", {{"albedo", "albedo"}, {"specular", "specular"}, {"gloss", "shininess", times_four}}, {}, false,
+             "phong, approximately: a Blinn exponent of 4x the Phong one gives a similar highlight"}};
+  }
+  static double times_four(double x) { return 4.0 * x; }
 
   template <class T>
   static Rgb<T> shade(const T* p, const Vec3& l, const Vec3& v) {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "brdffit/math.h"
+#include "brdffit/model.h"
 #include "brdffit/param.h"
 
 namespace brdffit::models {
@@ -33,6 +34,29 @@ T beckmann_ndf(double cos_theta_h, const T& m) {
   const T m2 = m * m;
   return exp(-tan2 / m2) / (kPi * m2 * cos2 * cos2);
 }
+
+// Nestings (model.h): the simpler models a model contains, declared in each model's nestings().
+
+// Lambert inside a lobe over the same Lambert base: the lobe's linear scale at 0 leaves exactly
+// albedo/π.
+inline Nesting lambert_under_lobe(const char* scale = "specular") {
+  return {"lambert", {{"albedo", "albedo"}}, {{scale, 0.0}}, true,
+          std::string("lambert: ") + scale + " = 0 switches the lobe off and leaves the same Lambert base"};
+}
+
+// Stylised models return the shader's albedo·n·l without Lambert's 1/π (the light's intensity
+// carries it), so Lambert's albedo a is their albedo a/π.
+inline double lambert_albedo_to_shader_albedo(double a) { return a * kInvPi; }
+inline Nesting lambert_in_shader(std::vector<std::pair<std::string, double>> fixed, const std::string& why) {
+  return {"lambert", {{"albedo", "albedo", lambert_albedo_to_shader_albedo}}, std::move(fixed), true,
+          "lambert: " + why + " gives albedo·n·l, Lambert with its albedo/π"};
+}
+
+// Widths of the microfacet families in each other's terms, for approximate nestings: GGX's
+// α = roughness² and Beckmann's m (Ward's α, Cook-Torrance's m) are both RMS-slope-like widths
+// that agree for narrow lobes (Walter et al. 2007 compare them at α = m).
+inline double beckmann_m_to_ggx_roughness(double m) { return std::sqrt(m); }
+inline double ggx_roughness_to_beckmann_m(double roughness) { return roughness * roughness; }
 
 template <class T>
 Rgb<T> colour(const T* c) {

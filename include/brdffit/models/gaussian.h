@@ -7,6 +7,7 @@
 // peaks at 1.2·specular whatever m, so a narrow highlight needs a large scale: specular is in
 // [0, 1000] (1/sr; the MERL blue-acrylic proxy fits 16 at m = 0.006, and a bound of 10 held it).
 // θh is acos of a clamped double: no derivative flows through it, only through m.
+// Contains: lambert exactly (specular = 0).
 #pragma once
 
 #include <cmath>
@@ -26,6 +27,8 @@ struct Gaussian {
             {"m", 1, 0.005, 1.5, 0.3, "width of the lobe in radians of the half angle", Role::Roughness, false, false,
              Spacing::Log}};
   }
+
+  static std::vector<Nesting> nestings() { return {lambert_under_lobe()}; }
 
   template <class T>
   static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {

@@ -9,6 +9,11 @@
 // vis = G/((n·l)(n·v)) and leaves out the microfacet denominator's 1/4; brdffit keeps the 1/4
 // (Walter et al. 2007) so the lobe is normalised: its directional albedo is at most 1.
 // f0 is a colour so that metals (coloured specular) can be fitted.
+// Contains: nothing exactly. Schlick's F = f0 + (1-f0)(1-l·h)^5 is not 0 at f0 = 0, so no value
+// of f0 switches the lobe off: lambert only approximately (f0 = 0, roughness 1: what remains is
+// a faint grazing term); beckmann and cook-torrance approximately (roughness = √m). A fit of
+// ggx on a Lambertian material can therefore end slightly above Lambert's error (the verdict
+// judges by how much).
 #pragma once
 
 #include "brdffit/models/common.h"
@@ -28,6 +33,15 @@ struct Ggx {
              Role::Roughness, false, false, Spacing::Log},
             {"f0", 3, 0.0, 1.0, 0.04, "specular reflectance at normal incidence per channel (Schlick F0)",
              Role::F0, /*linear=*/true}};
+  }
+
+  static std::vector<Nesting> nestings() {
+    return {{"lambert", {{"albedo", "albedo"}}, {{"f0", 0.0}, {"roughness", 1.0}}, false,
+             "lambert, approximately: f0 = 0 leaves Schlick's (1-l·h)^5 grazing term; roughness 1 spreads it"},
+            {"beckmann", {{"albedo", "albedo"}, {"roughness", "m", beckmann_m_to_ggx_roughness}}, {}, false,
+             "beckmann, approximately: roughness = √m"},
+            {"cook-torrance", {{"albedo", "albedo"}, {"roughness", "m", beckmann_m_to_ggx_roughness}}, {}, false,
+             "cook-torrance, approximately: roughness = √m"}};
   }
 
   template <class T>

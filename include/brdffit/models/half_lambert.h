@@ -8,6 +8,7 @@
 // w = 1 is (n·l)², a darker Lambert. Consequence of the raw n·l: for w > 0.5 the term is not
 // monotone on the back; it is 0 at n·l = -(1-w)/w and rises again to (1-2w)² at n·l = -1 (1 for
 // w = 1). Only w = 0.5 (Valve's value) is monotone over the whole sphere. Stylised: no BRDF.
+// Contains: nothing. (n·l·w + 1 - w)² with w in [0.5, 1] is never n·l.
 #pragma once
 
 #include "brdffit/models/common.h"

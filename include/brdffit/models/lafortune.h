@@ -35,6 +35,7 @@
 // normal view with the lobe axis on the normal: (n+2)/(2π) is the normalisation of a cosine lobe.
 // Under this normalisation only the direction of (cxy, cz) matters, not its length: data
 // determine their ratio only (the Jacobian has a null direction along (cxy, cz)).
+// Contains: lambert exactly (specular = 0).
 #pragma once
 
 #include "brdffit/models/common.h"
@@ -58,6 +59,8 @@ struct Lafortune {
             {"n", 1, 0.1, 100000.0, 20.0, "lobe exponent: larger is a sharper lobe (Ngan's sharpness)", Role::Exponent,
              false, false, Spacing::Log}};
   }
+
+  static std::vector<Nesting> nestings() { return {lambert_under_lobe()}; }
 
   template <class T>
   static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {

@@ -4,6 +4,7 @@
 //
 // Seed: 000_45877382eab04cd5.txt (the "moon shader"). roughness = 0 is Lambert's n·l; larger
 // values darken the limb, as velvet and the moon do. Stylised: no 1/π, no BRDF.
+// Contains: lambert exactly (roughness k = 0, albedo = Lambert's albedo/π).
 #pragma once
 
 #include "brdffit/models/common.h"
@@ -20,6 +21,8 @@ struct Minnaert {
     return {albedo_param(),
             {"roughness", 1, 0.0, 2.0, 0.5, "Minnaert exponent k: 0 is Lambert, larger darkens the limb", Role::Roughness}};
   }
+
+  static std::vector<Nesting> nestings() { return {lambert_in_shader({{"roughness", 0.0}}, "roughness = 0")}; }
 
   template <class T>
   static Rgb<T> shade(const T* p, const Vec3& l, const Vec3& v) {

@@ -11,6 +11,7 @@
 // the reciprocity test does not apply (shade/n·l is in fact symmetric in l and v).
 // Unlit points (n·l ≤ 0) return 0 before the division by max(n·l, n·v), which is 0 when both
 // directions are below the horizon (the seed would produce 0·∞ = NaN there).
+// Contains: lambert exactly (σ = 0 gives A = 1, B = C = 0; albedo = Lambert's albedo/π).
 #pragma once
 
 #include "brdffit/models/common.h"
@@ -28,6 +29,8 @@ struct OrenNayar {
     albedo.linear = false;  // albedo also multiplies the B term
     return {albedo, {"roughness", 1, 0.0, 1.5, 0.3, "σ, the standard deviation of facet slopes (radians)", Role::Roughness}};
   }
+
+  static std::vector<Nesting> nestings() { return {lambert_in_shader({{"roughness", 0.0}}, "roughness = 0")}; }
 
   template <class T>
   static Rgb<T> shade(const T* p, const Vec3& l, const Vec3& v) {

@@ -13,6 +13,7 @@
 // shininess is in [1, 1e5], like the literature models' exponents (Ngan et al.'s Blinn-Phong
 // fits of MERL reach 1.2e5; blue-acrylic fits 2.4e4).
 // Stylised: no BRDF.
+// Contains: lambert exactly (specular = 0, albedo = Lambert's albedo/π: the shader omits 1/π).
 #pragma once
 
 #include "brdffit/models/common.h"
@@ -30,6 +31,10 @@ struct Phong {
             specular_param(100.0, 0.2, "highlight intensity per channel (seed 000's _SpecularPower·_SpecularColor)"),
             {"shininess", 1, 1.0, 100000.0, 32.0, "Phong exponent: larger is a smaller, sharper highlight",
              Role::Exponent, false, false, Spacing::Log}};
+  }
+
+  static std::vector<Nesting> nestings() {
+    return {lambert_in_shader({{"specular", 0.0}}, "specular = 0")};
   }
 
   template <class T>

@@ -16,6 +16,7 @@
 // glossy material needs specular > 1: it is in [0, 10] (a bound of 1 held all 9 shared
 // materials at the bound; with 10 the four matte ones fit inside it, at 0.9-3.1, and the glossy
 // ones still reach it). Stylised: no BRDF.
+// Contains: nothing. Its lit term is a smoothstep of n·l, not n·l.
 #pragma once
 
 #include "brdffit/models/common.h"

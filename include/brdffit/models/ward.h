@@ -18,6 +18,8 @@
 // Not energy conserving: the lobe's directional albedo is about cosθo for narrow lobes and stays
 // below 1 up to θo ≈ 89°, but 1/√(n·v) makes it grow without bound at grazing view (at α = 0.5:
 // 1.48 at θo = 89.9°, 4.7 at 89.99°).
+// Contains: lambert exactly (specular = 0); cook-torrance and beckmann approximately (alpha = m,
+// a start only).
 #pragma once
 
 #include "brdffit/models/common.h"
@@ -35,6 +37,12 @@ struct Ward {
             specular_param(1.0, 0.2, "specular reflectance of the lobe per channel (Ngan's NganWard albedo)"),
             {"alpha", 1, 0.001, 1.0, 0.2, "RMS slope of the surface: the width of the lobe (Ngan's roughness)",
              Role::Roughness, false, false, Spacing::Log}};
+  }
+
+  static std::vector<Nesting> nestings() {
+    return {lambert_under_lobe(),
+            {"cook-torrance", {{"albedo", "albedo"}, {"alpha", "m"}}, {}, false, "cook-torrance, approximately: alpha = m"},
+            {"beckmann", {{"albedo", "albedo"}, {"alpha", "m"}}, {}, false, "beckmann, approximately: alpha = m"}};
   }
 
   template <class T>

@@ -4,6 +4,7 @@
 //
 // Seed: 002_eea2a3e804e47e17.txt (Shader Story, half-Lambertian with wrap and contrast).
 // wrap = 0, contrast = 1 is Lambert's n·l. Stylised: no BRDF.
+// Contains: lambert exactly (wrap = 0, contrast = 1, albedo = Lambert's albedo/π).
 #pragma once
 
 #include "brdffit/models/common.h"
@@ -21,6 +22,10 @@ struct Wrap {
             {"wrap", 1, 0.0, 1.0, 0.5, "how far light wraps past the terminator (0: Lambert)", Role::Wrap},
             {"contrast", 1, 0.1, 8.0, 1.0, "exponent of the wrapped term: larger is a sharper falloff", Role::Exponent,
              false, false, Spacing::Log}};
+  }
+
+  static std::vector<Nesting> nestings() {
+    return {lambert_in_shader({{"wrap", 0.0}, {"contrast", 1.0}}, "wrap = 0, contrast = 1")};
   }
 
   template <class T>
