@@ -227,19 +227,6 @@ void run_batch_command(const BatchArgs& args) {
          shard ? "the lines above" : (out / "summary.json").string());
 }
 
-// The result documents a batch summary lists (those of the materials that were fitted), or
-// nothing when `path` is not a batch summary.
-std::vector<std::string> documents_of_summary(const std::string& path) {
-  std::vector<std::string> results;
-  const nlohmann::json summary = nlohmann::json::parse(read_file(path), nullptr, /*allow_exceptions=*/false);
-  if (!summary.is_object() || !summary.contains("materials") || !summary["materials"].is_array())
-    return results;
-  for (const nlohmann::json& material : summary["materials"])
-    if (material.is_object() && material.contains("result") && material["result"].is_string())
-      results.push_back(material["result"].get<std::string>());
-  return results;
-}
-
 // Result documents named directly, those a batch's summary.json lists, or every *.json in a
 // folder but the batch's summary.json.
 std::vector<FitDocument> read_documents(const std::vector<std::string>& inputs) {
@@ -248,7 +235,7 @@ std::vector<FitDocument> read_documents(const std::vector<std::string>& inputs) 
     std::error_code error;
     if (!fs::is_directory(input, error)) {
       const bool summary = fs::path(input).filename() == "summary.json";
-      const std::vector<std::string> listed = summary ? documents_of_summary(input) : std::vector<std::string>{};
+      const std::vector<std::string> listed = summary ? read_summary_results(input) : std::vector<std::string>{};
       if (summary && !listed.empty())
         paths.insert(paths.end(), listed.begin(), listed.end());
       else

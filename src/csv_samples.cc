@@ -64,11 +64,15 @@ std::optional<Header> parse_header(const std::vector<std::string>& fields) {
 }  // namespace
 
 SampleSet parse_csv_samples(const std::string& text, const std::string& name) {
+  std::istringstream lines(text);
+  return read_csv_samples(lines, name);
+}
+
+SampleSet read_csv_samples(std::istream& lines, const std::string& name) {
   std::optional<Header> header;
   double radians_per_unit = 0.0;  // 0 until a '# unit:' line
   SampleSet set;
   set.source = name;
-  std::istringstream lines(text);
   std::string line;
   for (int number = 1; std::getline(lines, line); ++number) {
     if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte order mark
@@ -121,6 +125,7 @@ SampleSet parse_csv_samples(const std::string& text, const std::string& name) {
     if (s.weight < 0.0) fail("{}:{}: negative weight", name, number);
     set.samples.push_back(s);
   }
+  if (lines.bad()) fail("{}: read error", name);
   if (!header) fail("{}: no CSV header found", name);
   if (set.samples.empty()) fail("{}: no samples after the header", name);
   set.weighting = header->has_weight ? "from file" : "uniform";

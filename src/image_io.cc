@@ -42,6 +42,7 @@ std::unique_ptr<OIIO::ImageInput> open_image(const std::string& path) {
   std::error_code error;
   if (!fs::exists(path, error)) fail("{}: no such file", path);
   if (fs::is_directory(path, error)) fail("{}: is a folder, not an image", path);
+  check_input_file(path, UINT64_MAX);  // a FIFO or a device would block or never end
   std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
   if (!in) fail("{}: cannot read image: {}", path, OIIO::geterror());
   return in;

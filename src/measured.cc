@@ -1,7 +1,9 @@
 // Choosing a reader for a measured input.
 #include "brdffit/measured.h"
 
+#include <cerrno>
 #include <cstring>
+#include <fstream>
 
 #include "brdffit/csv_samples.h"
 #include "brdffit/error.h"
@@ -43,6 +45,33 @@ std::unique_ptr<MeasuredBrdf> parse_table(const std::string& path, const std::st
   fail("{}: a CSV of samples is not a table that can be evaluated at any pair of directions", path);
 }
 
+// The first bytes of a regular file, enough for detect_format.
+std::string read_head(const std::string& path) {
+  check_input_file(path);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail("{}: cannot open: {}", path, std::strerror(errno));
+  std::string head(16, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<size_t>(in.gcount()));
+  return head;
+}
+
+// A table file's bytes, for a format whose size is known read only up to that size: a MERL
+// table is at most 90x90x360 bins of 3 doubles, so a larger file is refused before it is read.
+std::string read_table_bytes(const std::string& path, const std::string& head) {
+  constexpr uint64_t kLargestMerl = 12 + uint64_t{3} * 90 * 90 * 360 * sizeof(double);
+  const bool merl = detect_format(path, head) == Format::Merl;
+  return read_file(path, merl ? kLargestMerl : kMaxInputBytes);
+}
+
+// A CSV's samples, read from the file line by line: its text can be as large as its samples
+// and is never needed whole.
+SampleSet stream_csv_samples(const std::string& path) {
+  std::ifstream lines(path, std::ios::binary);
+  if (!lines) fail("{}: cannot open: {}", path, std::strerror(errno));
+  return read_csv_samples(lines, path);
+}
+
 }  // namespace
 
 Rgb<double> directional_albedo(const MeasuredBrdf& brdf, const Vec3& v) {
@@ -60,30 +89,32 @@ Rgb<double> directional_albedo(const MeasuredBrdf& brdf, const Vec3& v) {
 }
 
 std::unique_ptr<MeasuredBrdf> open_measured(const std::string& path) {
-  const std::string bytes = read_file(path);
+  const std::string bytes = read_table_bytes(path, read_head(path));
   return parse_table(path, bytes, detect_format(path, bytes));
 }
 
 SampleSet load_samples(const std::string& path, const SamplingOptions& options) {
   std::unique_ptr<MeasuredBrdf> table;
   {
-    const std::string bytes = read_file(path);
-    const Format format = detect_format(path, bytes);
-    if (format == Format::Csv) {
-      SampleSet set = parse_csv_samples(bytes, path);
+    const std::string head = read_head(path);
+    if (detect_format(path, head) == Format::Csv) {
+      SampleSet set = stream_csv_samples(path);
       apply_sampling_options(set, options);
       return set;
     }
-    table = parse_table(path, bytes, format);
+    const std::string bytes = read_table_bytes(path, head);
+    table = parse_table(path, bytes, detect_format(path, bytes));
   }  // the file's bytes are gone before the samples are made (a MERL table's are 35 MB)
   return table->samples(options);
 }
 
 TableInfo describe_measured(const std::string& path) {
-  const std::string bytes = read_file(path);
-  const Format format = detect_format(path, bytes);
-  if (format != Format::Csv) return parse_table(path, bytes, format)->info();
-  const SampleSet set = parse_csv_samples(bytes, path);
+  const std::string head = read_head(path);
+  if (detect_format(path, head) != Format::Csv) {
+    const std::string bytes = read_table_bytes(path, head);
+    return parse_table(path, bytes, detect_format(path, bytes))->info();
+  }
+  const SampleSet set = stream_csv_samples(path);
   TableInfo info;
   info.format = "csv";
   info.resolution = std::to_string(set.size()) + " samples";

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 
 #include "brdffit/error.h"
 #include "brdffit/io.h"
@@ -218,6 +219,23 @@ FitDocument read_fit_document(const std::string& path) {
     fail("{}: malformed brdffit result: {}", path, e.what());
   }
   return doc;
+}
+
+std::vector<std::string> read_summary_results(const std::string& path) {
+  std::vector<std::string> results;
+  const nlohmann::json summary = nlohmann::json::parse(read_file(path), nullptr, /*allow_exceptions=*/false);
+  if (!summary.is_object() || !summary.contains("materials") || !summary["materials"].is_array()) return results;
+  const std::filesystem::path folder = std::filesystem::path(absolute_path(path)).parent_path();
+  size_t index = 0;
+  for (const nlohmann::json& material : summary["materials"]) {
+    const std::string where = fmt::format("{}: materials[{}]", path, index++);
+    if (!material.is_object()) fail("{}: not an object", where);
+    const nlohmann::json result = material.value("result", nlohmann::json());
+    if (result.is_null()) continue;  // a material that failed has no document
+    if (!result.is_string() || result.get<std::string>().empty()) fail("{}.result: not a file name", where);
+    results.push_back(absolute_path((folder / result.get<std::string>()).string()));
+  }
+  return results;
 }
 
 }  // namespace brdffit

@@ -167,7 +167,8 @@ RglBrdf RglBrdf::parse(const std::string& bytes, const std::string& name) {
     return std::count_if(values.begin(), values.end(), predicate);
   };
   const std::vector<float> theta_axis = theta_i.floats(), phi_axis = phi_i.floats();
-  const std::vector<float> ndf_values = ndf.floats(), sigma_values = sigma.floats(), vndf_values = vndf.floats();
+  // Moved into the grids below, not copied: a large file's tables are held once each.
+  std::vector<float> ndf_values = ndf.floats(), sigma_values = sigma.floats(), vndf_values = vndf.floats();
   std::vector<float> rgb_values = rgb.floats();
   for (const auto& [field_name, values] :
        {std::pair{"theta_i", &theta_axis}, {"phi_i", &phi_axis}, {"ndf", &ndf_values}, {"sigma", &sigma_values},
@@ -199,9 +200,9 @@ RglBrdf RglBrdf::parse(const std::string& bytes, const std::string& name) {
     return ParametricGrid2D(int(f.shape.back()), int(f.shape[f.shape.size() - 2]), std::move(values), std::move(axes),
                             normalise);
   };
-  brdf.ndf_ = grid(ndf, ndf_values, {}, false);
-  brdf.sigma_ = grid(sigma, sigma_values, {}, false);
-  brdf.vndf_ = grid(vndf, vndf_values, {phi_axis, theta_axis}, true);
+  brdf.ndf_ = grid(ndf, std::move(ndf_values), {}, false);
+  brdf.sigma_ = grid(sigma, std::move(sigma_values), {}, false);
+  brdf.vndf_ = grid(vndf, std::move(vndf_values), {phi_axis, theta_axis}, true);
   brdf.rgb_ = grid(rgb, std::move(rgb_values), {phi_axis, theta_axis, {0, 1, 2}}, false);
   return brdf;
 }

@@ -9,11 +9,13 @@
 #include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "batch_test_util.h"
 #include "brdffit/batch.h"
 #include "brdffit/capture.h"
 #include "brdffit/compare.h"
+#include "brdffit/csv_samples.h"
 #include "brdffit/error.h"
 #include "brdffit/fit.h"
 #include "brdffit/image_io.h"
@@ -295,6 +297,48 @@ TEST(Hardening, OnlyRegularFilesWithinTheLimitAreRead) {
   const CommandResult r = run_cli("info " + dir + "/fifo");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("not a regular file"), std::string::npos) << r.output;
+}
+
+TEST(Hardening, AMerlTableLargerThanTheFormatAllowsIsRefusedBeforeReading) {
+  const std::string dir = fresh_dir("hardening-merl-size");
+  const int32_t header[3] = {90, 90, 180};
+  write_text(dir + "/t.binary", std::string(reinterpret_cast<const char*>(header), sizeof header));
+  fs::resize_file(dir + "/t.binary", uint64_t{1} << 30);  // sparse: 1 GiB that takes no disk
+  const CommandResult r = run_cli("info " + dir + "/t.binary");
+  EXPECT_EQ(r.exit_code, 1);
+  // 12 + 3·90·90·360·8 bytes: the largest MERL table.
+  EXPECT_NE(r.output.find("1073741824 bytes, more than the limit of 69984012 bytes"), std::string::npos) << r.output;
+}
+
+TEST(Hardening, SphereAndCaptureRefuseToWriteOverTheirInputs) {
+  const std::string dir = fresh_dir("hardening-sphere-outputs");
+  const cv::Mat grey(16, 16, CV_32FC3, cv::Scalar(0.5, 0.5, 0.5));
+  write_image(dir + "/photo.png", grey);
+  write_image(dir + "/frame_00.png", grey);
+  write_image(dir + "/frame_01.png", grey);
+  write_text(dir + "/lights.txt", "0 0 1\n");
+  const std::string photo = slurp(dir + "/photo.png"), frame = slurp(dir + "/frame_01.png");
+  CommandResult r = run_cli("sphere " + dir + "/photo.png --lights " + dir + "/lights.txt --out " + dir + "/photo.png");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("the output is the input"), std::string::npos) << r.output;
+  r = run_cli("sphere " + dir + "/photo.png --lights " + dir + "/lights.txt --out " + dir + "/lights.txt");
+  EXPECT_NE(r.output.find("the output is the input"), std::string::npos) << r.output;
+  r = run_cli("capture " + dir + "/frame_%02d.png --out " + dir + "/frame_01.png");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("the output is the input"), std::string::npos) << r.output;
+  EXPECT_EQ(slurp(dir + "/photo.png"), photo);
+  EXPECT_EQ(slurp(dir + "/frame_01.png"), frame);
+}
+
+TEST(Hardening, CsvIsStreamedLineByLineWithTheSameResult) {
+  const std::string text = "# unit: degrees\ntheta_i,phi_i,theta_o,phi_o,r,g,b\n30,0,30,180,0.5,0.25,0.125\n\n60,0,0,0,1,1,1\n";
+  std::istringstream lines(text);
+  const SampleSet streamed = read_csv_samples(lines, "s.csv");
+  ASSERT_EQ(streamed.size(), 2u);
+  // f·cosθi with θi = 30°: 0.5·cos30° = 0.4330127...
+  EXPECT_NEAR(streamed.samples[0].value[0], 0.5 * std::sqrt(3.0) / 2, 1e-15);
+  EXPECT_NEAR(streamed.samples[1].value[2], 0.5, 1e-15);
+  EXPECT_EQ(parse_csv_samples(text, "s.csv").samples[0].value, streamed.samples[0].value);
 }
 
 TEST(Hardening, ImagesAboveThePixelLimitAreRefusedBeforeDecoding) {

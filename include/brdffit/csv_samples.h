@@ -17,6 +17,7 @@
 //   30,0,30,180,0.52,0.31,0.12
 #pragma once
 
+#include <istream>
 #include <string>
 
 #include "brdffit/samples.h"
@@ -25,6 +26,10 @@ namespace brdffit {
 
 // Parses CSV text; `name` is used in messages ("name:line: problem").
 SampleSet parse_csv_samples(const std::string& text, const std::string& name);
+
+// The same, line by line from a stream: memory holds the samples, never the whole text (a CSV
+// of millions of samples is read from its file this way).
+SampleSet read_csv_samples(std::istream& lines, const std::string& name);
 
 // Writes samples in the direction-vector form with weights (f = value / cosθi), with enough
 // digits that parsing the text gives the same doubles back.

@@ -33,4 +33,10 @@ struct FitDocument {
 };
 FitDocument read_fit_document(const std::string& path);
 
+// The result documents a batch summary (summary.json, batch_summary_json) lists: those of the
+// materials that were fitted, absolute (relative ones resolved against the summary's folder).
+// Empty when the file is not a batch summary (not JSON, or no "materials" array). Throws Error
+// naming the file and field when a material entry is malformed.
+std::vector<std::string> read_summary_results(const std::string& path);
+
 }  // namespace brdffit
