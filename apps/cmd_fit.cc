@@ -135,7 +135,7 @@ void run_score(const ScoreArgs& args) {
     if (!args.model.empty()) fail("score: give --model or --published, not both");
     if (!args.material.empty() && !args.name.empty()) fail("score: with --published, give the line's name once");
   } else if (args.model.empty() && args.material.empty()) {
-    fail("score: give --model (with --param), --material FILE or --published FILE.fit");
+    fail("score: give --model (with --param) or --material FILE, or --published FILE.fit");
   }
   const Model* model = args.published.empty() ? find_model(args.model) : nullptr;
   std::vector<double> values;

@@ -361,9 +361,9 @@ TEST(LowModels, ScorePublishedOnTheCommandLine) {
 
   for (const auto& [args, fragment] : std::vector<std::pair<std::string, std::string>>{
            {"score " + table.path + " --published " + fits.path + " --material other", "no material 'other'"},
-           {"score " + table.path + " --published " + fits.path + " --model ward", "either --model or --published"},
-           {"score " + table.path, "either --model or --published"},
-           {"score " + table.path + " --model ward --material x", "--material needs --published"}}) {
+           {"score " + table.path + " --published " + fits.path + " --model ward", "give --model or --published, not both"},
+           {"score " + table.path, "or --published FILE.fit"},
+           {"score " + table.path + " --published " + fits.path + " --material a --name b", "give the line's name once"}}) {
     SCOPED_TRACE(args);
     const test::CommandResult r = test::run_cli(args);
     EXPECT_NE(r.exit_code, 0);
