@@ -132,12 +132,13 @@ def test_samples_round_trip_through_arrays(bundled_table):
 
 
 def test_ctrl_c_during_a_fit_raises_keyboard_interrupt():
-    light, view, shaded = ggx_samples(5000)
+    # Enough work (seconds) that the interrupt 0.05 s in always lands during the fit.
+    light, view, shaded = ggx_samples(50000)
     samples = brdffit.samples(light, view, shaded)
-    timer = threading.Timer(0.2, _thread.interrupt_main)
+    timer = threading.Timer(0.05, _thread.interrupt_main)
     timer.start()
     with pytest.raises(KeyboardInterrupt):
-        brdffit.fit(samples, models="lambert,ggx,ward")
+        brdffit.fit(samples, models="ggx,ward,cook-torrance,ashikhmin-shirley,lafortune")
     timer.join()
     assert brdffit.fit(samples, models="lambert")["lambert"].ok  # usable afterwards
 
