@@ -13,22 +13,9 @@
 namespace brdffit {
 namespace {
 
-// Samples of `model` at `values` over random direction pairs, with multiplicative Gaussian noise.
+// Samples of `model` at `values` over random direction pairs down to z = 0.02, with noise.
 SampleSet synthetic(const Model& model, const std::vector<double>& values, size_t count, double noise, uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> gauss;
-  SampleSet set;
-  set.source = "synthetic " + model.name();
-  set.weighting = "uniform";
-  while (set.samples.size() < count) {
-    Sample s;
-    s.l = test::random_upper_direction(rng, 0.02);
-    s.v = test::random_upper_direction(rng, 0.02);
-    s.value = model.shade(values.data(), s.l, s.v);
-    for (int c = 0; c < 3; ++c) s.value[c] *= 1.0 + noise * gauss(rng);
-    set.samples.push_back(s);
-  }
-  return set;
+  return test::model_table(model, values, count, noise, seed, 0.02);
 }
 
 // Values a user would plausibly fit: the middle of each range, varied per channel, and from

@@ -18,20 +18,7 @@ namespace {
 // A table of `model` at `values` over random direction pairs down to 1° above the horizon
 // (where a sharp lobe's grazing spike lives), with relative Gaussian noise.
 SampleSet table_of(const Model& model, const std::vector<double>& values, size_t count, double noise, uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> gauss;
-  SampleSet set;
-  set.source = model.name() + " table";
-  set.weighting = "uniform";
-  while (set.samples.size() < count) {
-    Sample s;
-    s.l = test::random_upper_direction(rng, 0.017);
-    s.v = test::random_upper_direction(rng, 0.017);
-    s.value = model.shade(values.data(), s.l, s.v);
-    for (int c = 0; c < 3; ++c) s.value[c] *= 1.0 + noise * gauss(rng);
-    set.samples.push_back(s);
-  }
-  return set;
+  return test::model_table(model, values, count, noise, seed, 0.017);
 }
 
 const Model& model(const char* name) {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "brdffit/model.h"
+#include "brdffit/samples.h"
 
 namespace brdffit::test {
 
@@ -56,6 +57,26 @@ inline bool running_in_ci() {
       GTEST_SKIP() << what << " absent (the shared data beside the project is not mounted)";          \
     }                                                                                                \
   } while (0)
+
+// Samples of `model` at `values` over random direction pairs with both z >= min_z, each value
+// with multiplicative Gaussian noise of relative size `noise`; uniform weights.
+inline SampleSet model_table(const Model& model, const std::vector<double>& values, size_t count, double noise,
+                             uint64_t seed, double min_z) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> gauss;
+  SampleSet set;
+  set.source = "synthetic " + model.name();
+  set.weighting = "uniform";
+  while (set.samples.size() < count) {
+    Sample s;
+    s.l = random_upper_direction(rng, min_z);
+    s.v = random_upper_direction(rng, min_z);
+    s.value = model.shade(values.data(), s.l, s.v);
+    for (int c = 0; c < 3; ++c) s.value[c] *= 1.0 + noise * gauss(rng);
+    set.samples.push_back(s);
+  }
+  return set;
+}
 
 inline Vec3 dir(double x, double y, double z) { return Vec3(x, y, z).normalized(); }
 
