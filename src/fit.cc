@@ -618,9 +618,11 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
   return fit;
 }
 
+// On a bound to within a millionth of the parameter's range.
+double bound_tolerance(const ParamSpec& p) { return 1e-6 * (p.upper - p.lower); }
+bool at_upper_bound(const ParamSpec& p, double value) { return value >= p.upper - bound_tolerance(p); }
 bool at_bound(const ParamSpec& p, double value) {
-  const double tolerance = 1e-6 * (p.upper - p.lower);
-  return value <= p.lower + tolerance || value >= p.upper - tolerance;
+  return value <= p.lower + bound_tolerance(p) || at_upper_bound(p, value);
 }
 
 // Fills result.parameters from one or three channel fits. stddev = √(σ² (JᵀJ)⁻¹), with
@@ -826,7 +828,7 @@ void judge(const Model& model, const FitResult* baseline, double zero_error, Met
   for (const ParameterEstimate& p : r.parameters) {
     const ParamSpec* spec = model.find_parameter(p.name);
     const bool clamped = spec && spec->linear && std::all_of(p.value.begin(), p.value.end(), [&](double v) {
-      return v >= spec->upper - 1e-6 * (spec->upper - spec->lower);
+      return at_upper_bound(*spec, v);
     });
     if (clamped && zero_error > 0.0 && error > kPoorClampedUnexplained * zero_error) {
       r.verdict = Verdict::Poor;
@@ -836,7 +838,7 @@ void judge(const Model& model, const FitResult* baseline, double zero_error, Met
     }
     if (p.at_bound && spec) {
       const bool upper = std::any_of(p.value.begin(), p.value.end(),
-                                     [&](double v) { return v >= spec->upper - 1e-6 * (spec->upper - spec->lower); });
+                                     [&](double v) { return at_upper_bound(*spec, v); });
       r.warnings.push_back(fmt::format("{} = {} sits at its {} bound {:.4g}: the data would push it further, "
                                        "its uncertainty is only indicative",
                                        p.name, format_value(p.value), upper ? "upper" : "lower",
