@@ -130,12 +130,7 @@ void print_results(const std::vector<FitResult>& fits, const std::vector<PhotoEr
 
 void run_sphere(const SphereArgs& args) {
   set_max_image_pixels(args.max_pixels);
-  FitOptions options;
-  options.metric = metric_from(args.metric);
-  options.loss = loss_from(args.loss);
-  options.threads = args.threads;
-  options.seed = args.seed;
-  args.converge.apply(options);
+  const FitOptions options = fit_options(args.metric, args.loss, false, args.threads, args.seed, args.converge);
   if (args.images_format != "png" && args.images_format != "exr") fail("--images-format: png or exr, not '{}'", args.images_format);
   const std::vector<const Model*> models = parse_model_list(args.models);
   const SphereInput input = sphere_input(args);

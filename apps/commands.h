@@ -10,6 +10,7 @@ void add_models_commands(CLI::App& app);  // cmd_models.cc: models, eval
 void add_table_commands(CLI::App& app);   // cmd_tables.cc: info, lookup, bake
 void add_fit_commands(CLI::App& app);     // cmd_fit.cc: fit, score
 void add_sphere_commands(CLI::App& app);  // cmd_sphere.cc: sphere, capture
-void add_batch_commands(CLI::App& app);   // cmd_batch.cc: batch, compare, render, report, export
+void add_batch_commands(CLI::App& app);   // cmd_batch.cc: batch, compare, export
+void add_render_commands(CLI::App& app);  // cmd_render.cc: render, report
 
 }  // namespace brdffit::cli

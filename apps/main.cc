@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   brdffit::cli::add_fit_commands(app);
   brdffit::cli::add_sphere_commands(app);
   brdffit::cli::add_batch_commands(app);
+  brdffit::cli::add_render_commands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
