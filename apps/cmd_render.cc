@@ -105,7 +105,7 @@ void run_report(const ReportArgs& args) {
 
 void add_render_commands(CLI::App& app) {
   auto render = std::make_shared<RenderArgs>();
-  CLI::App* render_cmd = app.add_subcommand("render", "Render a sphere of a measured table or of a fitted model");
+  CLI::App* render_cmd = app.add_subcommand("render", imaging_summary("render"));
   render_cmd->add_option("input", render->input, "Measured table (MERL, RGL), or a result document with --model")->required();
   render_cmd->add_option("--model", render->model, "The fitted model to render from a result document");
   render->lighting.add_to(render_cmd);
@@ -117,7 +117,7 @@ void add_render_commands(CLI::App& app) {
   render_cmd->callback([render] { run_render(*render); });
 
   auto report = std::make_shared<ReportArgs>();
-  CLI::App* report_cmd = app.add_subcommand("report", "One self-contained HTML page comparing fits, with pictures");
+  CLI::App* report_cmd = app.add_subcommand("report", imaging_summary("report"));
   report_cmd->add_option("results", report->results, "Result documents, or folders of them (a batch's --out)")->required();
   report_cmd->add_option("--out", report->out, "The page to write (.html)")->required();
   report_cmd->add_option("--metric", report->metric, "Rank by: cosine, log, relative, l2 (default: the documents')");
