@@ -1,7 +1,8 @@
 # ctest package_consumer: installs the build's libraries, headers and package files (the
 # `development` component) into a temporary prefix, configures and builds tests/package against
 # them with find_package(brdffit), and runs what it built.
-#   cmake -DBUILD_DIR=<build> -DSOURCE_DIR=<tests/package> -DWORK_DIR=<scratch> -DCXX=<compiler> -P run.cmake
+#   cmake -DBUILD_DIR=<build> -DSOURCE_DIR=<tests/package> -DWORK_DIR=<scratch> -DCXX=<compiler>
+#         [-DLAUNCHER=ccache] [-DSANITIZE_FLAGS=-fsanitize=...] -P run.cmake
 function(run)
   execute_process(COMMAND ${ARGN} RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err)
   if(NOT status EQUAL 0)
@@ -16,12 +17,15 @@ run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${WORK_DIR}/prefix --compon
 if(EXISTS ${WORK_DIR}/prefix/include/brdffit/fit_residual.h)
   message(FATAL_ERROR "an implementation header (fit_residual.h) was installed as public API")
 endif()
-set(launcher)
+set(options)
 if(LAUNCHER)
-  set(launcher -DCMAKE_CXX_COMPILER_LAUNCHER=${LAUNCHER})
+  list(APPEND options -DCMAKE_CXX_COMPILER_LAUNCHER=${LAUNCHER})
+endif()
+if(SANITIZE_FLAGS)
+  list(APPEND options -DCMAKE_CXX_FLAGS=${SANITIZE_FLAGS} -DCMAKE_EXE_LINKER_FLAGS=${SANITIZE_FLAGS})
 endif()
 run(${CMAKE_COMMAND} -S ${SOURCE_DIR} -B ${WORK_DIR}/build -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=${CXX}
-    ${launcher} -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix)
+    ${options} -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix)
 run(${CMAKE_COMMAND} --build ${WORK_DIR}/build)
 run(${WORK_DIR}/build/core_consumer)
 run(${WORK_DIR}/build/imaging_consumer)
