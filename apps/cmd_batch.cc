@@ -18,7 +18,6 @@
 #include "brdffit/error.h"
 #include "brdffit/io.h"
 #include "brdffit/material_export.h"
-#include "brdffit/measured.h"
 #include "commands.h"
 #include "fit_options.h"
 
