@@ -1,6 +1,5 @@
-// `brdffit batch`: fit many tables; `compare`: rank models over result documents; `render`: a
-// sphere of a table or a fitted model; `report`: one HTML page about fitted materials;
-// `export`: a fit as a glTF 2.0, OpenPBR (MaterialX) or Mitsuba 3 material.
+// `brdffit batch`: fit many tables; `compare`: rank models over result documents; `export`: a fit
+// as a glTF 2.0, OpenPBR (MaterialX) or Mitsuba 3 material.
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -17,13 +16,9 @@
 #include "brdffit/batch_shard.h"
 #include "brdffit/compare.h"
 #include "brdffit/error.h"
-#include "brdffit/image_io.h"
 #include "brdffit/io.h"
 #include "brdffit/material_export.h"
 #include "brdffit/measured.h"
-#include "brdffit/parallel.h"
-#include "brdffit/render.h"
-#include "brdffit/report.h"
 #include "commands.h"
 #include "fit_options.h"
 
@@ -64,7 +59,8 @@ class BatchProgress {
       line += "FAILED: " + o.error;
     } else {
       line += o.resumed ? "already done" : fmt::format("{} in {:.1f} s", material_status_name(o.status), o.seconds);
-      if (const FitResult* best = best_of(o)) line += fmt::format(", best {} ({} {:.4g})", best->model, metric_name(metric_), best->metrics.get(metric_));
+      if (const FitResult* best = best_result(o.fits, metric_))
+        line += fmt::format(", best {} ({} {:.4g})", best->model, metric_name(metric_), best->metrics.get(metric_));
       if (o.status == MaterialStatus::Partial) line += "; failed: " + o.error;
     }
     if (!terminal_ && fitted() > 0 && done_ < total_) line += ", ETA " + duration_text(eta());
@@ -92,13 +88,6 @@ class BatchProgress {
   size_t fitted() const { return done_ - resumed_; }
   // Materials still to do at the rate fitted ones went so far (resumed ones take no time).
   double eta() const { return fitting_seconds_ / fitted() * (total_ - done_); }
-
-  const FitResult* best_of(const MaterialOutcome& o) const {
-    const FitResult* best = nullptr;
-    for (const FitResult& f : o.fits)
-      if (f.ok && (!best || f.metrics.get(metric_) < best->metrics.get(metric_))) best = &f;
-    return best;
-  }
 
   void clear_bar() {
     if (terminal_) fmt::print(stderr, "\r\033[K");
@@ -169,12 +158,7 @@ struct BatchArgs {
 void run_batch_command(const BatchArgs& args) {
   BatchOptions options;
   options.models = parse_model_list(args.models);
-  options.fit.metric = metric_from(args.metric);
-  options.fit.loss = loss_from(args.loss);
-  options.fit.per_channel = args.per_channel;
-  args.converge.apply(options.fit);
-  options.fit.seed = args.sampling.seed;
-  options.fit.threads = args.threads;
+  options.fit = fit_options(args.metric, args.loss, args.per_channel, args.threads, args.sampling.seed, args.converge);
   options.sampling = args.sampling.options();
   options.out_dir = args.out;
   options.jobs = args.jobs;
@@ -190,9 +174,9 @@ void run_batch_command(const BatchArgs& args) {
     materials = shard_materials(materials, *shard);
     fmt::print("batch: shard {}/{}: {} of {} materials\n", shard->index, shard->count, materials.size(), all);
   }
-  const int jobs = std::max(1, std::min<int>(args.jobs, static_cast<int>(materials.size())));  // a shard may get none
+  const BatchPlan plan = plan_batch(options, materials.size());
   fmt::print("batch: {} materials x {} models, {} at a time with {} threads each; results in {}\n", materials.size(),
-             options.models.size(), jobs, args.threads > 0 ? args.threads : std::max(1, thread_count(0) / jobs), args.out);
+             options.models.size(), plan.jobs, plan.threads, args.out);
   std::fflush(stdout);
 
   const auto started = Clock::now();
@@ -213,60 +197,14 @@ void run_batch_command(const BatchArgs& args) {
     write_file_atomic((out / "summary.json").string(), batch_summary_json(outcomes, options, seconds).dump(2) + "\n");
     write_file_atomic((out / "summary.csv").string(), batch_summary_csv(outcomes, options));
   }
-  size_t failed = 0, partial = 0, resumed = 0;
-  for (const MaterialOutcome& o : outcomes) {
-    failed += o.status == MaterialStatus::Failed;
-    partial += o.status == MaterialStatus::Partial;
-    resumed += o.resumed;
-  }
+  const OutcomeCounts counts = count_outcomes(outcomes);
+  const size_t failed = counts.failed, partial = counts.partial;
   fmt::print("batch: {} materials in {}: {} ok ({} already done), {} partly fitted, {} failed; {}\n",
-             outcomes.size(), duration_text(seconds), outcomes.size() - failed - partial, resumed, partial, failed,
+             outcomes.size(), duration_text(seconds), counts.ok, counts.resumed, partial, failed,
              shard ? "summary by `brdffit batch ... --merge` once every shard is done" : "summary in " + (out / "summary.csv").string());
   if (failed + partial > 0)
     fail("{} of {} materials failed and {} were only partly fitted (see {})", failed, outcomes.size(), partial,
          shard ? "the lines above" : (out / "summary.json").string());
-}
-
-// Result documents named directly, those a batch's summary.json lists, or every *.json in a
-// folder but the batch's summary.json.
-std::vector<FitDocument> read_documents(const std::vector<std::string>& inputs) {
-  std::vector<std::string> paths;
-  for (const std::string& input : inputs) {
-    std::error_code error;
-    if (!fs::is_directory(input, error)) {
-      const bool summary = fs::path(input).filename() == "summary.json";
-      const std::vector<std::string> listed = summary ? read_summary_results(input) : std::vector<std::string>{};
-      if (summary && !listed.empty())
-        paths.insert(paths.end(), listed.begin(), listed.end());
-      else
-        paths.push_back(input);
-      continue;
-    }
-    std::vector<std::string> found;
-    for (const fs::directory_entry& entry : fs::directory_iterator(input, error))
-      if (entry.is_regular_file() && entry.path().extension() == ".json" && entry.path().filename() != "summary.json")
-        found.push_back(entry.path().string());
-    if (error) fail("{}: cannot list the folder: {}", input, error.message());
-    if (found.empty()) fail("{}: no result documents (.json) in this folder", input);
-    std::sort(found.begin(), found.end());
-    paths.insert(paths.end(), found.begin(), found.end());
-  }
-  // A shell glob over a batch folder names its documents and its summary: each document once.
-  std::vector<FitDocument> documents;
-  std::set<std::string> seen;
-  for (const std::string& path : paths) {
-    std::error_code error;
-    const fs::path canonical = fs::weakly_canonical(path, error);
-    if (seen.insert(error ? path : canonical.string()).second) documents.push_back(read_fit_document(path));
-  }
-  return documents;
-}
-
-// The files the documents were read from (the inputs of compare and report).
-std::vector<std::string> document_paths(const std::vector<FitDocument>& documents) {
-  std::vector<std::string> paths;
-  for (const FitDocument& document : documents) paths.push_back(document.path);
-  return paths;
 }
 
 struct CompareArgs {
@@ -276,95 +214,13 @@ struct CompareArgs {
 
 void run_compare(const CompareArgs& args) {
   check_outputs(args.results, {args.csv, args.markdown});
-  const std::vector<FitDocument> documents = read_documents(args.results);
+  const std::vector<FitDocument> documents = read_fit_documents(args.results);
   check_outputs(document_paths(documents), {args.csv, args.markdown});
   const Metric metric = args.metric.empty() ? common_metric(documents) : metric_from(args.metric);
   const Comparison comparison = compare_results(documents, metric);
   fmt::print("{}", comparison_text(comparison));
   if (!args.csv.empty()) write_file_atomic(args.csv, comparison_csv(comparison));
   if (!args.markdown.empty()) write_file_atomic(args.markdown, comparison_markdown(comparison));
-}
-
-struct LightingArgs {
-  std::string light, view;
-
-  void add_to(CLI::App* command) {
-    command->add_option("--light", light, "Direction towards the light X,Y,Z (picture: x right, y up, z toward you; default -1,1,2)");
-    command->add_option("--view", view, "Direction towards the camera X,Y,Z (default 0,0,1)");
-  }
-  SphereLighting lighting() const {
-    SphereLighting lighting;
-    if (!light.empty()) lighting.light = parse_vec3(light, "--light");
-    if (!view.empty()) lighting.view = parse_vec3(view, "--view");
-    light_in_camera_frame(lighting);  // rejects zero directions before any work
-    return lighting;
-  }
-};
-
-struct RenderArgs {
-  std::string input, model, out;
-  LightingArgs lighting;
-  int size = 256;
-  double reference = 0.0;
-};
-
-void run_render(const RenderArgs& args) {
-  check_outputs({args.input}, {args.out});
-  const SphereLighting lighting = args.lighting.lighting();
-  cv::Mat sphere;
-  std::string what;
-  if (fs::path(args.input).extension() == ".json") {
-    const FitDocument document = read_fit_document(args.input);
-    std::string names;
-    for (const FitResult& r : document.results) names += (names.empty() ? "" : ", ") + r.model;
-    if (args.model.empty()) fail("{}: choose the model to render with --model ({})", args.input, names);
-    const auto fit = std::find_if(document.results.begin(), document.results.end(),
-                                  [&](const FitResult& r) { return r.model == args.model; });
-    if (fit == document.results.end()) fail("{}: has no {} result (it has {})", args.input, args.model, names);
-    if (!fit->ok) fail("{}: the {} fit failed ({}): nothing to render", args.input, args.model, fit->error);
-    const Model* model = find_model(args.model);
-    if (!model) fail("{}: {} is not a model of this version of brdffit", args.input, args.model);
-    sphere = render_fitted_sphere(*model, *fit, lighting, args.size);
-    what = args.model + " fitted to " + document.input_path;
-  } else {
-    if (!args.model.empty()) fail("--model applies to result documents (.json); {} is a table", args.input);
-    sphere = render_measured_sphere(*open_measured(args.input), lighting, args.size);
-    what = args.input;
-  }
-  if (stores_linear_values(args.out)) {
-    write_image(args.out, sphere, Encoding::Float);
-    fmt::print("wrote {} ({}, {}x{} linear f·cosθi)\n", args.out, what, args.size, args.size);
-    return;
-  }
-  const double reference = args.reference > 0.0 ? args.reference : tone_reference(sphere, sphere_mask(args.size));
-  write_image(args.out, tone_map(sphere, reference), Encoding::Srgb8);
-  fmt::print("wrote {} ({}, {}x{}, tone reference {:.6g})\n", args.out, what, args.size, args.size, reference);
-}
-
-struct ReportArgs {
-  std::vector<std::string> results;
-  std::string out, metric;
-  LightingArgs lighting;
-  int top = 0, size = 160;
-};
-
-void run_report(const ReportArgs& args) {
-  check_outputs(args.results, {args.out});
-  const std::vector<FitDocument> documents = read_documents(args.results);
-  std::vector<std::string> inputs = document_paths(documents);
-  for (const FitDocument& document : documents) inputs.push_back(document.input_path);
-  check_outputs(inputs, {args.out});
-  ReportOptions options;
-  if (!args.metric.empty()) options.metric = metric_from(args.metric);
-  options.lighting = args.lighting.lighting();
-  options.top = args.top;
-  options.sphere_size = args.size;
-  options.progress = [](size_t index, size_t count, const std::string& material) {
-    fmt::print(stderr, "[{}/{}] {}\n", index + 1, count, material);
-  };
-  const std::string page = report_html(documents, options);
-  write_file_atomic(args.out, page);
-  fmt::print("wrote {} ({} materials, {:.1f} MB)\n", args.out, documents.size(), page.size() / 1e6);
 }
 
 struct ExportArgs {
@@ -431,28 +287,6 @@ void add_batch_commands(CLI::App& app) {
   compare_cmd->add_option("--csv", compare->csv, "Write the per-model table with every material's error and rank (CSV)");
   compare_cmd->add_option("--markdown", compare->markdown, "Write the tables as Markdown");
   compare_cmd->callback([compare] { run_compare(*compare); });
-
-  auto render = std::make_shared<RenderArgs>();
-  CLI::App* render_cmd = app.add_subcommand("render", "Render a sphere of a measured table or of a fitted model");
-  render_cmd->add_option("input", render->input, "Measured table (MERL, RGL), or a result document with --model")->required();
-  render_cmd->add_option("--model", render->model, "The fitted model to render from a result document");
-  render->lighting.add_to(render_cmd);
-  render_cmd->add_option("--size", render->size, "Picture size in pixels")->capture_default_str()->check(CLI::Range(8, 8192));
-  render_cmd->add_option("--reference", render->reference,
-                         "PNG: the f·cosθi shown at about 75% grey (default: the sphere's 99th percentile)")
-      ->check(CLI::PositiveNumber);
-  render_cmd->add_option("--out", render->out, "Picture: .png (tone-mapped sRGB) or .exr (linear)")->required();
-  render_cmd->callback([render] { run_render(*render); });
-
-  auto report = std::make_shared<ReportArgs>();
-  CLI::App* report_cmd = app.add_subcommand("report", "One self-contained HTML page comparing fits, with pictures");
-  report_cmd->add_option("results", report->results, "Result documents, or folders of them (a batch's --out)")->required();
-  report_cmd->add_option("--out", report->out, "The page to write (.html)")->required();
-  report_cmd->add_option("--metric", report->metric, "Rank by: cosine, log, relative, l2 (default: the documents')");
-  report_cmd->add_option("--top", report->top, "Picture only the best N models of each material (0: all)")->capture_default_str()->check(kCountRange);
-  report_cmd->add_option("--size", report->size, "Sphere size in pixels")->capture_default_str()->check(CLI::Range(16, 1024));
-  report->lighting.add_to(report_cmd);
-  report_cmd->callback([report] { run_report(*report); });
 
   auto export_args = std::make_shared<ExportArgs>();
   CLI::App* export_cmd = app.add_subcommand(

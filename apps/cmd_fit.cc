@@ -51,8 +51,9 @@ std::string csv_table(const std::vector<FitResult>& results) {
     for (const ParameterEstimate& p : r.parameters)
       params += (params.empty() ? "" : ";") + p.name + "=" + format_values(p.value, "{:.9g}");
     const Metrics& m = r.metrics;
-    csv += fmt::format("{},{},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{},{:.3f},\"{}\"\n", r.model, r.ok ? "ok" : "failed",
-                       verdict_name(r.verdict), m.cosine, m.log, m.relative, m.l2, m.max, r.iterations, r.seconds, params);
+    csv += fmt::format("{},{},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{},{:.3f},{}\n", csv_field(r.model),
+                       r.ok ? "ok" : "failed", verdict_name(r.verdict), m.cosine, m.log, m.relative, m.l2, m.max,
+                       r.iterations, r.seconds, csv_field(params));
   }
   return csv;
 }
@@ -71,13 +72,8 @@ struct FitArgs {
 
 void run_fit(const FitArgs& args) {
   check_outputs({args.data}, {args.out, args.csv});  // before the work, not after it
-  FitOptions options;
-  options.metric = metric_from(args.metric);
-  options.loss = loss_from(args.loss);
-  options.per_channel = args.per_channel;
-  args.converge.apply(options);
-  options.threads = args.threads;
-  options.seed = args.sampling.seed;
+  const FitOptions options =
+      fit_options(args.metric, args.loss, args.per_channel, args.threads, args.sampling.seed, args.converge);
   const std::vector<const Model*> models = parse_model_list(args.models);
   const SampleSet data = load_samples(args.data, args.sampling.options());
   if (data.empty()) fail("{}: no samples left to fit (check --max-angle)", args.data);
@@ -112,7 +108,7 @@ std::string metrics_line(const Metrics& m) {
 // --published: every model the material's published fit maps onto, scored on the table.
 void run_score_published(const ScoreArgs& args, const SampleSet& data) {
   const std::string line = !args.name.empty() ? args.name : args.material;
-  const std::string material = line.empty() ? std::filesystem::path(args.data).stem().string() : line;
+  const std::string material = line.empty() ? table_material_name(args.data) : line;
   const std::vector<PublishedFit> fits = find_published_fits(args.published, material);
   nlohmann::json out = nlohmann::json::array();
   for (const PublishedFit& fit : fits) {

@@ -130,12 +130,7 @@ void print_results(const std::vector<FitResult>& fits, const std::vector<PhotoEr
 
 void run_sphere(const SphereArgs& args) {
   set_max_image_pixels(args.max_pixels);
-  FitOptions options;
-  options.metric = metric_from(args.metric);
-  options.loss = loss_from(args.loss);
-  options.threads = args.threads;
-  options.seed = args.seed;
-  args.converge.apply(options);
+  const FitOptions options = fit_options(args.metric, args.loss, false, args.threads, args.seed, args.converge);
   if (args.images_format != "png" && args.images_format != "exr") fail("--images-format: png or exr, not '{}'", args.images_format);
   const std::vector<const Model*> models = parse_model_list(args.models);
   const SphereInput input = sphere_input(args);
@@ -187,7 +182,7 @@ void run_capture(const CaptureArgs& args) {
 
 void add_sphere_commands(CLI::App& app) {
   auto args = std::make_shared<SphereArgs>();
-  CLI::App* sphere = app.add_subcommand("sphere", "Fit models to photographs of a sphere under known (or chrome-ball) lights");
+  CLI::App* sphere = app.add_subcommand("sphere", imaging_summary("sphere"));
   sphere->add_option("input", args->inputs, "Photographs (EXR, HDR, TIFF, PNG, JPEG), or one DiLiGenT object folder")
       ->required();
   CLI::Option* lights =
@@ -230,8 +225,7 @@ void add_sphere_commands(CLI::App& app) {
   sphere->callback([args] { run_sphere(*args); });
 
   auto capture_args = std::make_shared<CaptureArgs>();
-  CLI::App* capture_cmd = app.add_subcommand(
-      "capture", "Grab frames from a camera, video or image sequence; merge several exposures into an HDR image");
+  CLI::App* capture_cmd = app.add_subcommand("capture", imaging_summary("capture"));
   capture_cmd->add_option("source", capture_args->options.source, "Camera index, video file, or image sequence pattern (shot_%02d.png)")
       ->required();
   capture_cmd->add_option("--exposures", capture_args->options.exposures, "Exposure time of each group of frames, in order (T1,T2,...)")

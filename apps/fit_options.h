@@ -14,6 +14,7 @@
 #include "brdffit/error.h"
 #include "brdffit/fit.h"
 #include "brdffit/metric.h"
+#include "brdffit/result_json.h"
 #include "brdffit/samples.h"
 
 namespace brdffit::cli {
@@ -60,14 +61,6 @@ struct ConvergeArg {
   }
 };
 
-// One value as it is, several as [a,b,c], each with `format` (a fmt format such as "{:.4g}").
-inline std::string format_values(const std::vector<double>& xs, const char* format) {
-  if (xs.size() == 1) return fmt::format(fmt::runtime(format), xs[0]);
-  std::string out = "[";
-  for (size_t i = 0; i < xs.size(); ++i) out += (i ? "," : "") + fmt::format(fmt::runtime(format), xs[i]);
-  return out + "]";
-}
-
 // NAME=VALUE±STDDEV with its flags. A poor fit's stddevs are left out: they measure how well the
 // data pin down a model that does not describe them, which is not a precision worth printing.
 inline std::string format_parameter(const ParameterEstimate& p, Verdict verdict) {
@@ -103,6 +96,20 @@ inline LossKind loss_from(const std::string& name) {
   if (name == "huber") return LossKind::Huber;
   if (name == "cauchy") return LossKind::Cauchy;
   fail("--loss: unknown loss '{}' (none, huber, cauchy)", name);
+}
+
+// The FitOptions of fit, sphere and batch, from their command-line values: the one place where
+// the fitting commands turn options into the fitter's settings.
+inline FitOptions fit_options(const std::string& metric, const std::string& loss, bool per_channel, int threads,
+                              uint64_t seed, const ConvergeArg& converge) {
+  FitOptions options;
+  options.metric = metric_from(metric);
+  options.loss = loss_from(loss);
+  options.per_channel = per_channel;
+  options.threads = threads;
+  options.seed = seed;
+  converge.apply(options);
+  return options;
 }
 
 }  // namespace brdffit::cli

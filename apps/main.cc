@@ -1,4 +1,5 @@
-// brdffit: fit analytic reflectance models to measured reflectance.
+// brdffit and brdffit-imaging: fit analytic reflectance models to measured reflectance. One main for
+// both; each registers its own commands (add_commands, commands.h).
 #include <fmt/format.h>
 
 #include <cstdio>
@@ -11,12 +12,8 @@ int main(int argc, char** argv) {
   CLI::App app{"brdffit " BRDFFIT_VERSION ": fit analytic reflectance models to measured BRDFs and photographs"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "brdffit " BRDFFIT_VERSION);
-  brdffit::cli::add_models_commands(app);
-  brdffit::cli::add_table_commands(app);
-  brdffit::cli::add_fit_commands(app);
-  brdffit::cli::add_sphere_commands(app);
-  brdffit::cli::add_batch_commands(app);
   try {
+    brdffit::cli::add_commands(app, argc, argv);  // brdffit or brdffit-imaging's (commands.h)
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);

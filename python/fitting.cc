@@ -118,12 +118,7 @@ py::dict score(const py::handle& data, const py::handle& model_arg, const py::ha
   return metrics_dict(metrics);
 }
 
-const FitResult* best_of(const PyFitResults& r) {
-  const FitResult* best = nullptr;
-  for (const FitResult& result : r.results)
-    if (result.ok && (!best || result.metrics.get(r.options.metric) < best->metrics.get(r.options.metric))) best = &result;
-  return best;
-}
+const FitResult* best_of(const PyFitResults& r) { return best_result(r.results, r.options.metric); }
 
 const FitResult& result_named(const PyFitResults& r, const std::string& name) {
   for (const FitResult& result : r.results)

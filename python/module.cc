@@ -7,7 +7,6 @@
 
 #include "bindings.h"
 #include "brdffit/error.h"
-#include "brdffit/sphere.h"
 
 namespace brdffit::python {
 

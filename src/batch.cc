@@ -20,7 +20,6 @@
 #include <signal.h>
 #include <unistd.h>
 
-#include "brdffit/compare.h"
 #include "brdffit/error.h"
 #include "brdffit/io.h"
 #include "brdffit/measured.h"
@@ -32,16 +31,6 @@ namespace brdffit {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string lowercase(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
-bool has_table_extension(const fs::path& path) {
-  const std::string extension = lowercase(path.extension().string());
-  return extension == ".binary" || extension == ".bsdf" || extension == ".csv";
-}
 
 // A manifest is text; every table format but CSV (recognised by its extension) is binary, and a
 // binary file has a NUL byte early on (MERL's first int32 is 90).
@@ -133,10 +122,6 @@ std::string file_name_safe(const std::string& name) {
   return safe.empty() ? "material" : safe;
 }
 
-std::string material_name(const fs::path& table) {
-  return file_name_safe(has_table_extension(table) ? table.stem().string() : table.filename().string());
-}
-
 // The models that failed and why, "model: reason; ...".
 std::string failed_models(const std::vector<FitResult>& fits) {
   std::string text;
@@ -162,9 +147,8 @@ std::optional<FitDocument> completed_document(const std::string& result_path, co
   for (const char* key : {"input", "metric", "per_channel", "loss"})
     if (document.json.value(key, nlohmann::json()) != current[key]) return std::nullopt;
   for (const Model* model : options.models) {
-    const auto fit = std::find_if(document.results.begin(), document.results.end(),
-                                  [&](const FitResult& r) { return r.model == model->name(); });
-    if (fit == document.results.end() || !fit->ok) return std::nullopt;
+    const FitResult* fit = find_result(document.results, model->name());
+    if (!fit || !fit->ok) return std::nullopt;
   }
   return document;
 }
@@ -220,25 +204,10 @@ MaterialOutcome process_material(const BatchMaterial& material, const BatchOptio
   return outcome;
 }
 
-const FitResult* best_fit(const MaterialOutcome& outcome, Metric metric) {
-  const FitResult* best = nullptr;
-  for (const FitResult& fit : outcome.fits)
-    if (fit.ok && std::isfinite(fit.metrics.get(metric)) && (!best || fit.metrics.get(metric) < best->metrics.get(metric)))
-      best = &fit;
-  return best;
-}
-
-const FitResult* find_fit(const MaterialOutcome& outcome, const std::string& model) {
-  for (const FitResult& fit : outcome.fits)
-    if (fit.model == model) return &fit;
-  return nullptr;
-}
-
-// A model's error on a material under the metric, when it fitted.
-std::optional<double> fitted_error(const MaterialOutcome& outcome, const std::string& model, Metric metric) {
-  const FitResult* fit = find_fit(outcome, model);
-  if (!fit || !fit->ok || !std::isfinite(fit->metrics.get(metric))) return std::nullopt;
-  return fit->metrics.get(metric);
+// A model's error on a material under the metric; NaN when it did not fit.
+double fitted_error(const MaterialOutcome& outcome, const std::string& model, Metric metric) {
+  const FitResult* fit = find_result(outcome.fits, model);
+  return fit && fit->ok ? fit->metrics.get(metric) : NAN;
 }
 
 }  // namespace
@@ -258,7 +227,7 @@ std::vector<BatchMaterial> batch_materials(const std::vector<std::string>& input
   std::vector<BatchMaterial> materials;
   std::set<std::string> taken = {"summary"};  // summary.json is the batch's own
   for (const fs::path& table : list.take()) {
-    const std::string base = material_name(table);
+    const std::string base = file_name_safe(table_material_name(table.string()));
     std::string name = base;
     for (int n = 2; taken.count(name); ++n) name = base + "-" + std::to_string(n);
     taken.insert(name);
@@ -322,11 +291,10 @@ std::vector<MaterialOutcome> run_batch(const std::vector<BatchMaterial>& materia
 
   if ((options.resume || options.merge_only) && !options.shared_folder) remove_stale_temp_files(options.out_dir);
 
-  const int jobs = static_cast<int>(std::clamp<size_t>(static_cast<size_t>(std::max(1, options.jobs)), 1,
-                                                       std::max<size_t>(materials.size(), 1)));
+  const BatchPlan plan = plan_batch(options, materials.size());
+  const int jobs = plan.jobs;
   FitOptions fit = options.fit;
-  // The fitter is parallel itself: the cores are shared among the materials fitted at once.
-  if (fit.threads <= 0) fit.threads = std::max(1, thread_count(0) / jobs);
+  fit.threads = plan.threads;
 
   std::vector<MaterialOutcome> outcomes(materials.size());
   std::atomic<size_t> next{0};
@@ -353,22 +321,37 @@ std::vector<MaterialOutcome> run_batch(const std::vector<BatchMaterial>& materia
   return outcomes;
 }
 
+BatchPlan plan_batch(const BatchOptions& options, size_t materials) {
+  BatchPlan plan;
+  plan.jobs = static_cast<int>(std::clamp<size_t>(static_cast<size_t>(std::max(1, options.jobs)), 1,
+                                                  std::max<size_t>(materials, 1)));
+  // The fitter is parallel itself: the cores are shared among the materials fitted at once.
+  plan.threads = options.fit.threads > 0 ? options.fit.threads : std::max(1, thread_count(0) / plan.jobs);
+  return plan;
+}
+
+OutcomeCounts count_outcomes(const std::vector<MaterialOutcome>& outcomes) {
+  OutcomeCounts counts;
+  for (const MaterialOutcome& o : outcomes) {
+    counts.ok += o.status == MaterialStatus::Ok;
+    counts.partial += o.status == MaterialStatus::Partial;
+    counts.failed += o.status == MaterialStatus::Failed;
+    counts.resumed += o.resumed;
+  }
+  return counts;
+}
+
 nlohmann::json batch_summary_json(const std::vector<MaterialOutcome>& outcomes, const BatchOptions& options,
                                   double seconds) {
   const Metric metric = options.fit.metric;
   nlohmann::json models = nlohmann::json::array();
   for (const Model* model : options.models) models.push_back(model->name());
-  std::map<std::string, int> counts = {{"ok", 0}, {"partial", 0}, {"failed", 0}, {"resumed", 0}};
   nlohmann::json materials = nlohmann::json::array();
   for (const MaterialOutcome& o : outcomes) {
-    ++counts[material_status_name(o.status)];
-    if (o.resumed) ++counts["resumed"];
     nlohmann::json errors = nlohmann::json::object();
-    for (const Model* model : options.models) {
-      const std::optional<double> e = fitted_error(o, model->name(), metric);
-      errors[model->name()] = e ? nlohmann::json(*e) : nlohmann::json(nullptr);
-    }
-    const FitResult* best = best_fit(o, metric);
+    for (const Model* model : options.models)
+      errors[model->name()] = number_or_null(fitted_error(o, model->name(), metric));
+    const FitResult* best = best_result(o.fits, metric);
     materials.push_back({{"material", o.material.name},
                          {"input", o.material.path},
                          {"result", o.result_path.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.result_path)},
@@ -379,12 +362,14 @@ nlohmann::json batch_summary_json(const std::vector<MaterialOutcome>& outcomes, 
                          {"best_model", best ? nlohmann::json(best->model) : nlohmann::json(nullptr)},
                          {"errors", errors}});
   }
+  const OutcomeCounts counts = count_outcomes(outcomes);
   return {{"schema", 1},
           {"tool", "brdffit " BRDFFIT_VERSION},
           {"metric", metric_name(metric)},
           {"models", models},
           {"materials", materials},
-          {"counts", counts},
+          {"counts",
+           {{"ok", counts.ok}, {"partial", counts.partial}, {"failed", counts.failed}, {"resumed", counts.resumed}}},
           {"seconds", seconds}};
 }
 
@@ -394,14 +379,14 @@ std::string batch_summary_csv(const std::vector<MaterialOutcome>& outcomes, cons
   for (const Model* model : options.models) csv += "," + csv_field(model->name());
   csv += "\n";
   for (const MaterialOutcome& o : outcomes) {
-    const FitResult* best = best_fit(o, metric);
+    const FitResult* best = best_result(o.fits, metric);
     csv += fmt::format("{},{},{},{},{},{},{},{:.3f}", csv_field(o.material.name), csv_field(o.material.path),
                        material_status_name(o.status), o.resumed ? "yes" : "no", csv_field(o.error),
                        best ? csv_field(best->model) : "", best ? fmt::format("{:.9g}", best->metrics.get(metric)) : "",
                        o.seconds);
     for (const Model* model : options.models) {
-      const std::optional<double> e = fitted_error(o, model->name(), metric);
-      csv += e ? fmt::format(",{:.9g}", *e) : ",";
+      const double e = fitted_error(o, model->name(), metric);
+      csv += std::isfinite(e) ? fmt::format(",{:.9g}", e) : ",";
     }
     csv += "\n";
   }

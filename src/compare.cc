@@ -17,13 +17,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// What a material is called: the batch's name for it, else its table's file name.
-std::string material_name(const FitDocument& document) {
-  if (document.json.contains("material") && document.json["material"].is_string())
-    return document.json["material"].get<std::string>();
-  return fs::path(document.input_path).stem().string();
-}
-
 MaterialRanking rank_material(const FitDocument& document, Metric metric) {
   MaterialRanking ranking;
   ranking.document = document.path;
@@ -194,13 +187,6 @@ std::string comparison_markdown(const Comparison& c) {
     md += "\n";
   }
   return md;
-}
-
-std::string csv_field(const std::string& text) {
-  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
-  std::string quoted = "\"";
-  for (char ch : text) quoted += ch == '"' ? std::string("\"\"") : std::string(1, ch);
-  return quoted + "\"";
 }
 
 }  // namespace brdffit

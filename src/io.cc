@@ -233,6 +233,13 @@ std::string escape_markup(const std::string& text) {
   return out;
 }
 
+std::string csv_field(const std::string& text) {
+  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+  std::string quoted = "\"";
+  for (char ch : text) quoted += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+  return quoted + "\"";
+}
+
 std::string escape_markdown(const std::string& text) {
   std::string out;
   for (const char c : escape_markup(text)) {

@@ -120,12 +120,6 @@ std::vector<double> values_from_core(const Model& model, const Core& core) {
   return values;
 }
 
-std::string material_name(const FitDocument& document) {
-  if (document.json.contains("material") && document.json["material"].is_string())
-    return document.json["material"].get<std::string>();
-  return std::filesystem::path(document.input_path).stem().string();
-}
-
 // A fit's values for export: a per-channel fit's shape parameters are the mean of its channels'.
 std::vector<double> export_values(const Model& model, const FitResult& fit, std::vector<std::string>& warnings) {
   if (static_cast<int>(fit.values.size()) != model.num_values())
@@ -141,12 +135,6 @@ std::vector<double> export_values(const Model& model, const FitResult& fit, std:
     warnings.push_back("a per-channel fit: its shape parameters are written as the mean of the three channels'");
   }
   return values;
-}
-
-const FitResult* find_fit(const FitDocument& document, const std::string& model) {
-  for (const FitResult& fit : document.results)
-    if (fit.model == model) return &fit;
-  return nullptr;
 }
 
 // Characters that can stand in XML 1.0 text: escaped markup, and every byte that is not part of
@@ -300,13 +288,13 @@ MaterialExport export_material(const FitDocument& document, const ExportRequest&
   const FitResult* fit = nullptr;
   if (request.model.empty()) {
     for (const std::string& model : natives)
-      if (!fit) fit = find_fit(document, model);
+      if (!fit) fit = find_result(document.results, model);
     if (!fit)
       fail("{}: has no {} fit; fit with --models {} to export it unchanged, or convert another fit with --model "
            "(ggx, gltf, gltf-specular, openpbr, principled)",
            document.path, natives.front(), natives.front());
   } else {
-    fit = find_fit(document, request.model);
+    fit = find_result(document.results, request.model);
     if (!fit) fail("{}: has no {} fit", document.path, request.model);
   }
   MaterialExport out;

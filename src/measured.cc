@@ -3,6 +3,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 
 #include "brdffit/csv_samples.h"
@@ -122,6 +123,17 @@ TableInfo describe_measured(const std::string& path) {
   for (const Sample& s : set.samples) info.include_in_range(s.value / s.l.z());
   info.albedo = Rgb<double>::Constant(std::nan(""));
   return info;
+}
+
+bool has_table_extension(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension == ".binary" || extension == ".bsdf" || extension == ".csv";
+}
+
+std::string table_material_name(const std::string& path) {
+  const std::filesystem::path file(path);
+  return has_table_extension(path) ? file.stem().string() : file.filename().string();
 }
 
 }  // namespace brdffit

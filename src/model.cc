@@ -218,4 +218,12 @@ std::vector<const Model*> parse_model_list(const std::string& list) {
   return models;
 }
 
+Rgb<double> shade_fitted(const Model& model, const std::vector<double>& values,
+                         const std::vector<std::vector<double>>& per_channel_values, const Vec3& l, const Vec3& v) {
+  if (per_channel_values.empty()) return model.shade(values.data(), l, v);
+  Rgb<double> shade;
+  for (int c = 0; c < 3; ++c) shade[c] = model.shade(per_channel_values[c].data(), l, v)[c];
+  return shade;
+}
+
 }  // namespace brdffit

@@ -36,13 +36,6 @@ std::string anchor(const std::string& material) {
   return id;
 }
 
-std::string format_values(const std::vector<double>& xs) {
-  if (xs.size() == 1) return fmt::format("{:.4g}", xs[0]);
-  std::string out = "[";
-  for (size_t i = 0; i < xs.size(); ++i) out += fmt::format("{}{:.4g}", i ? ", " : "", xs[i]);
-  return out + "]";
-}
-
 std::string parameters_html(const FitResult& fit) {
   std::string out;
   for (const ParameterEstimate& p : fit.parameters) {
@@ -233,10 +226,9 @@ std::string material_html(const FitDocument& document, const MaterialRanking& ra
   std::string failures;
   int pictured = 0;
   for (const RankedModel& ranked : ranking.models) {
-    const auto fit = std::find_if(document.results.begin(), document.results.end(),
-                                  [&](const FitResult& r) { return r.model == ranked.model; });
+    const FitResult* fit = find_result(document.results, ranked.model);
     if (!ranked.ok) {
-      const std::string why = fit != document.results.end() && !fit->error.empty() ? fit->error : "no error value";
+      const std::string why = fit && !fit->error.empty() ? fit->error : "no error value";
       failures += fmt::format("<li>{}: {}</li>", html(ranked.model), html(why));
       continue;
     }
@@ -244,7 +236,7 @@ std::string material_html(const FitDocument& document, const MaterialRanking& ra
     ++pictured;
     Row row;
     row.label = fmt::format("{}. {}", ranked.rank, ranked.model);
-    row.fit = &*fit;
+    row.fit = fit;
     row.error = ranked.error;
     const Model* model = find_model(ranked.model);
     try {

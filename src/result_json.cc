@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <set>
 
 #include "brdffit/error.h"
 #include "brdffit/io.h"
+#include "brdffit/measured.h"
 
 namespace brdffit {
 
@@ -13,13 +15,10 @@ namespace {
 
 constexpr int kSchema = 1;
 
-// JSON has no NaN: a number that is not finite is written as null.
-nlohmann::json number(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
-
 nlohmann::json numbers(const std::vector<double>& xs) {
-  if (xs.size() == 1) return number(xs[0]);
+  if (xs.size() == 1) return number_or_null(xs[0]);
   nlohmann::json array = nlohmann::json::array();
-  for (double x : xs) array.push_back(number(x));
+  for (double x : xs) array.push_back(number_or_null(x));
   return array;
 }
 
@@ -34,8 +33,9 @@ std::vector<double> read_numbers(const nlohmann::json& j) {
 }
 
 nlohmann::json metrics_json(const Metrics& m) {
-  return {{"cosine", number(m.cosine)}, {"log", number(m.log)}, {"relative", number(m.relative)},
-          {"l2", number(m.l2)},         {"max", number(m.max)},           {"typical", number(m.typical)}};
+  return {{"cosine", number_or_null(m.cosine)}, {"log", number_or_null(m.log)},
+          {"relative", number_or_null(m.relative)}, {"l2", number_or_null(m.l2)},
+          {"max", number_or_null(m.max)}, {"typical", number_or_null(m.typical)}};
 }
 
 Verdict verdict_from(const std::string& name, const std::string& path) {
@@ -103,6 +103,30 @@ void validate_result(const FitResult& r, const Model& model, const std::string& 
 }
 
 }  // namespace
+
+nlohmann::json number_or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
+
+std::string format_values(const std::vector<double>& xs, const char* format) {
+  if (xs.size() == 1) return fmt::format(fmt::runtime(format), xs[0]);
+  std::string out = "[";
+  for (size_t i = 0; i < xs.size(); ++i) out += (i ? "," : "") + fmt::format(fmt::runtime(format), xs[i]);
+  return out + "]";
+}
+
+const FitResult* find_result(const std::vector<FitResult>& results, const std::string& model) {
+  for (const FitResult& result : results)
+    if (result.model == model) return &result;
+  return nullptr;
+}
+
+const FitResult* best_result(const std::vector<FitResult>& results, Metric metric) {
+  const FitResult* best = nullptr;
+  for (const FitResult& result : results) {
+    const double error = result.metrics.get(metric);
+    if (result.ok && std::isfinite(error) && (!best || error < best->metrics.get(metric))) best = &result;
+  }
+  return best;
+}
 
 nlohmann::json fit_result_json(const FitResult& result) {
   nlohmann::json parameters = nlohmann::json::object();
@@ -236,6 +260,52 @@ std::vector<std::string> read_summary_results(const std::string& path) {
     results.push_back(absolute_path((folder / result.get<std::string>()).string()));
   }
   return results;
+}
+
+std::vector<FitDocument> read_fit_documents(const std::vector<std::string>& inputs) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> paths;
+  for (const std::string& input : inputs) {
+    std::error_code error;
+    if (!fs::is_directory(input, error)) {
+      const bool summary = fs::path(input).filename() == "summary.json";
+      const std::vector<std::string> listed = summary ? read_summary_results(input) : std::vector<std::string>{};
+      if (summary && !listed.empty())
+        paths.insert(paths.end(), listed.begin(), listed.end());
+      else
+        paths.push_back(input);
+      continue;
+    }
+    std::vector<std::string> found;
+    for (const fs::directory_entry& entry : fs::directory_iterator(input, error))
+      if (entry.is_regular_file() && entry.path().extension() == ".json" && entry.path().filename() != "summary.json")
+        found.push_back(entry.path().string());
+    if (error) fail("{}: cannot list the folder: {}", input, error.message());
+    if (found.empty()) fail("{}: no result documents (.json) in this folder", input);
+    std::sort(found.begin(), found.end());
+    paths.insert(paths.end(), found.begin(), found.end());
+  }
+  // A shell glob over a batch folder names its documents and its summary: each document once.
+  std::vector<FitDocument> documents;
+  std::set<std::string> seen;
+  for (const std::string& path : paths) {
+    std::error_code error;
+    const fs::path canonical = fs::weakly_canonical(path, error);
+    if (seen.insert(error ? path : canonical.string()).second) documents.push_back(read_fit_document(path));
+  }
+  return documents;
+}
+
+std::vector<std::string> document_paths(const std::vector<FitDocument>& documents) {
+  std::vector<std::string> paths;
+  for (const FitDocument& document : documents) paths.push_back(document.path);
+  return paths;
+}
+
+std::string material_name(const FitDocument& document) {
+  if (document.json.contains("material") && document.json["material"].is_string())
+    return document.json["material"].get<std::string>();
+  return table_material_name(document.input_path);
 }
 
 }  // namespace brdffit

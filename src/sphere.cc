@@ -97,14 +97,6 @@ PixelFate classify_pixel(const Vec3& normal, const Vec3& view, const Vec3& light
   return PixelFate::Used;
 }
 
-Rgb<double> shade_fitted(const Model& model, const std::vector<double>& values,
-                         const std::vector<std::vector<double>>& per_channel_values, const Vec3& l, const Vec3& v) {
-  if (per_channel_values.empty()) return model.shade(values.data(), l, v);
-  Rgb<double> shade;
-  for (int c = 0; c < 3; ++c) shade[c] = model.shade(per_channel_values[c].data(), l, v)[c];
-  return shade;
-}
-
 cv::Mat render_sphere(const ShadeFunction& shade, const SphereView& sphere, const Vec3& light, cv::Size size) {
   cv::Mat image(size, CV_32FC3, cv::Scalar::all(0.0));
   const Vec3 l = light.normalized();

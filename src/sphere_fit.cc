@@ -334,8 +334,6 @@ std::vector<PhotoError> compare_with_photographs(const SphereObservation& observ
 
 namespace {
 
-nlohmann::json number_or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
-
 nlohmann::json json_of(const PixelCounts& p) {
   return {{"used", p.used}, {"shadow", p.shadow}, {"grazing", p.grazing}, {"saturated", p.saturated}, {"dark", p.dark}};
 }

@@ -87,6 +87,15 @@ class OutputFolderLock {
   std::string path_;
 };
 
+// How a batch of `materials` runs: materials fitted at once (options.jobs, at most one per
+// material, at least one), and threads per material (options.fit.threads, or the cores shared
+// among the jobs).
+struct BatchPlan {
+  int jobs = 1;
+  int threads = 1;
+};
+BatchPlan plan_batch(const BatchOptions& options, size_t materials);
+
 // Fits every material with every model, options.jobs materials at a time, each table read only
 // when its turn comes (memory holds at most `jobs` tables). Each material's result document
 // (fit_document_json, plus "material") is written atomically to <out_dir>/<name>.json as soon as
@@ -100,6 +109,12 @@ class OutputFolderLock {
 // The caller holds an OutputFolderLock on out_dir. Throws Error only for an unusable output folder.
 std::vector<MaterialOutcome> run_batch(const std::vector<BatchMaterial>& materials, const BatchOptions& options,
                                        const BatchEvents& events = {});
+
+// How many materials ended in each status; `resumed` counts those skipped (they are also ok).
+struct OutcomeCounts {
+  size_t ok = 0, partial = 0, failed = 0, resumed = 0;
+};
+OutcomeCounts count_outcomes(const std::vector<MaterialOutcome>& outcomes);
 
 // summary.json and summary.csv: per material its status, error, best model and every model's
 // error under the options' metric (empty/null where a model failed).

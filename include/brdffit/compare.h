@@ -63,7 +63,4 @@ std::string comparison_csv(const Comparison& comparison);
 // The per-model summary and a materials x models table of errors with ranks, the best in bold.
 std::string comparison_markdown(const Comparison& comparison);
 
-// A CSV field: quoted, with quotes doubled, when it holds a comma, quote or line break.
-std::string csv_field(const std::string& text);
-
 }  // namespace brdffit

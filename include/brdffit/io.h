@@ -58,6 +58,10 @@ std::string escape_markup(const std::string& text);
 // and line breaks and other control characters turned into spaces so a row stays one line.
 std::string escape_markdown(const std::string& text);
 
+// A CSV field: quoted, with quotes doubled, when it holds a comma, quote or line break. Every
+// CSV file brdffit writes goes through it.
+std::string csv_field(const std::string& text);
+
 // The name write_file_atomic gives its temporary files for `path` is `path` + this + a unique
 // suffix; a killed process leaves them behind (see remove_stale_temp_files).
 inline constexpr const char* kTempInfix = ".tmp.";

@@ -58,4 +58,12 @@ SampleSet load_samples(const std::string& path, const SamplingOptions& options);
 // (the range is over their f; it has no albedo: NaN).
 TableInfo describe_measured(const std::string& path);
 
+// Whether a path ends in a table extension (.binary, .bsdf, .csv, in any case).
+bool has_table_extension(const std::string& path);
+
+// What a material measured in a table is called: the file name without its table extension
+// (other file names whole). The batch's result documents and summary, compare, report and
+// export all name materials this way.
+std::string table_material_name(const std::string& path);
+
 }  // namespace brdffit

@@ -91,6 +91,11 @@ const Model* find_model(const std::string& name);
 // The names of all models, comma separated (for messages).
 std::string model_names();
 
+// The shaded value of a fitted model: one value vector, or one per channel (FitResult's
+// channel_values) when that is non-empty.
+Rgb<double> shade_fitted(const Model& model, const std::vector<double>& values,
+                         const std::vector<std::vector<double>>& per_channel_values, const Vec3& l, const Vec3& v);
+
 }  // namespace brdffit
 
 namespace brdffit {

@@ -4,6 +4,8 @@
 //  {name: {"value", "stddev", "identifiable", "at_bound"}}, "metrics": {...}, "iterations",
 //  "termination", "seconds"}]}
 // Colours (and per-channel shape parameters) have [r,g,b] values and stddevs; NaN stddevs are null.
+// Also what every reader of results shares: finding a model's result, the best one, a
+// material's name, values as text.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -16,6 +18,19 @@ namespace brdffit {
 
 // A 3-vector, a direction or an RGB colour (the same type), as a JSON array [x, y, z].
 inline nlohmann::json json_array(const Vec3& v) { return {v[0], v[1], v[2]}; }
+
+// JSON has no NaN: a number that is not finite is written as null.
+nlohmann::json number_or_null(double x);
+
+// One value as it is, several as [a,b,c], each with `format` (a fmt format such as "{:.4g}").
+std::string format_values(const std::vector<double>& xs, const char* format = "{:.4g}");
+
+// The result of `model` among `results`, or nullptr.
+const FitResult* find_result(const std::vector<FitResult>& results, const std::string& model);
+
+// The result with the lowest error under `metric` among those that fitted with a finite error,
+// or nullptr when none did.
+const FitResult* best_result(const std::vector<FitResult>& results, Metric metric);
 
 nlohmann::json fit_result_json(const FitResult& result);
 
@@ -38,5 +53,17 @@ FitDocument read_fit_document(const std::string& path);
 // Empty when the file is not a batch summary (not JSON, or no "materials" array). Throws Error
 // naming the file and field when a material entry is malformed.
 std::vector<std::string> read_summary_results(const std::string& path);
+
+// The documents `inputs` name, for compare and report: result documents named directly, those a
+// batch's summary.json lists, or every *.json in a folder but the batch's summary.json (sorted).
+// Each file once, however it is spelled. Throws Error naming the input that names none.
+std::vector<FitDocument> read_fit_documents(const std::vector<std::string>& inputs);
+
+// The files the documents were read from.
+std::vector<std::string> document_paths(const std::vector<FitDocument>& documents);
+
+// What a document's material is called: the batch's name for it ("material"), else the name of
+// the table it was fitted to (table_material_name).
+std::string material_name(const FitDocument& document);
 
 }  // namespace brdffit

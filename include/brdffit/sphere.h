@@ -156,11 +156,6 @@ const char* pixel_fate_name(PixelFate fate);  // "used", "shadow", "grazing", "s
 PixelFate classify_pixel(const Vec3& normal, const Vec3& view, const Vec3& light, const cv::Vec3f& pixel,
                          double full_scale, bool clips, const PixelRules& rules);
 
-// The shaded value of a fitted model: one value vector, or one per channel (FitResult's
-// channel_values) when that is non-empty.
-Rgb<double> shade_fitted(const Model& model, const std::vector<double>& values,
-                         const std::vector<std::vector<double>>& per_channel_values, const Vec3& l, const Vec3& v);
-
 // A shaded value f·max(n·l, 0) (1/sr) as a function of the light and view directions in the
 // local frame, normal +z.
 using ShadeFunction = std::function<Rgb<double>(const Vec3& l, const Vec3& v)>;

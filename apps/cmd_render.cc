@@ -1,0 +1,130 @@
+// `brdffit render`: a sphere of a table or of a fitted model; `brdffit report`: one HTML page
+// about fitted materials. Commands of brdffit-imaging (they need the image libraries).
+#include <fmt/format.h>
+
+#include <filesystem>
+
+#include "brdffit/error.h"
+#include "brdffit/image_io.h"
+#include "brdffit/io.h"
+#include "brdffit/measured.h"
+#include "brdffit/render.h"
+#include "brdffit/report.h"
+#include "brdffit/result_json.h"
+#include "commands.h"
+#include "fit_options.h"
+
+namespace brdffit::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct LightingArgs {
+  std::string light, view;
+
+  void add_to(CLI::App* command) {
+    command->add_option("--light", light, "Direction towards the light X,Y,Z (picture: x right, y up, z toward you; default -1,1,2)");
+    command->add_option("--view", view, "Direction towards the camera X,Y,Z (default 0,0,1)");
+  }
+  SphereLighting lighting() const {
+    SphereLighting lighting;
+    if (!light.empty()) lighting.light = parse_vec3(light, "--light");
+    if (!view.empty()) lighting.view = parse_vec3(view, "--view");
+    light_in_camera_frame(lighting);  // rejects zero directions before any work
+    return lighting;
+  }
+};
+
+struct RenderArgs {
+  std::string input, model, out;
+  LightingArgs lighting;
+  int size = 256;
+  double reference = 0.0;
+};
+
+void run_render(const RenderArgs& args) {
+  check_outputs({args.input}, {args.out});
+  const SphereLighting lighting = args.lighting.lighting();
+  cv::Mat sphere;
+  std::string what;
+  if (fs::path(args.input).extension() == ".json") {
+    const FitDocument document = read_fit_document(args.input);
+    std::string names;
+    for (const FitResult& r : document.results) names += (names.empty() ? "" : ", ") + r.model;
+    if (args.model.empty()) fail("{}: choose the model to render with --model ({})", args.input, names);
+    const FitResult* fit = find_result(document.results, args.model);
+    if (!fit) fail("{}: has no {} result (it has {})", args.input, args.model, names);
+    if (!fit->ok) fail("{}: the {} fit failed ({}): nothing to render", args.input, args.model, fit->error);
+    const Model* model = find_model(args.model);
+    if (!model) fail("{}: {} is not a model of this version of brdffit", args.input, args.model);
+    sphere = render_fitted_sphere(*model, *fit, lighting, args.size);
+    what = args.model + " fitted to " + document.input_path;
+  } else {
+    if (!args.model.empty()) fail("--model applies to result documents (.json); {} is a table", args.input);
+    sphere = render_measured_sphere(*open_measured(args.input), lighting, args.size);
+    what = args.input;
+  }
+  if (stores_linear_values(args.out)) {
+    write_image(args.out, sphere, Encoding::Float);
+    fmt::print("wrote {} ({}, {}x{} linear f·cosθi)\n", args.out, what, args.size, args.size);
+    return;
+  }
+  const double reference = args.reference > 0.0 ? args.reference : tone_reference(sphere, sphere_mask(args.size));
+  write_image(args.out, tone_map(sphere, reference), Encoding::Srgb8);
+  fmt::print("wrote {} ({}, {}x{}, tone reference {:.6g})\n", args.out, what, args.size, args.size, reference);
+}
+
+struct ReportArgs {
+  std::vector<std::string> results;
+  std::string out, metric;
+  LightingArgs lighting;
+  int top = 0, size = 160;
+};
+
+void run_report(const ReportArgs& args) {
+  check_outputs(args.results, {args.out});
+  const std::vector<FitDocument> documents = read_fit_documents(args.results);
+  std::vector<std::string> inputs = document_paths(documents);
+  for (const FitDocument& document : documents) inputs.push_back(document.input_path);
+  check_outputs(inputs, {args.out});
+  ReportOptions options;
+  if (!args.metric.empty()) options.metric = metric_from(args.metric);
+  options.lighting = args.lighting.lighting();
+  options.top = args.top;
+  options.sphere_size = args.size;
+  options.progress = [](size_t index, size_t count, const std::string& material) {
+    fmt::print(stderr, "[{}/{}] {}\n", index + 1, count, material);
+  };
+  const std::string page = report_html(documents, options);
+  write_file_atomic(args.out, page);
+  fmt::print("wrote {} ({} materials, {:.1f} MB)\n", args.out, documents.size(), page.size() / 1e6);
+}
+
+}  // namespace
+
+void add_render_commands(CLI::App& app) {
+  auto render = std::make_shared<RenderArgs>();
+  CLI::App* render_cmd = app.add_subcommand("render", imaging_summary("render"));
+  render_cmd->add_option("input", render->input, "Measured table (MERL, RGL), or a result document with --model")->required();
+  render_cmd->add_option("--model", render->model, "The fitted model to render from a result document");
+  render->lighting.add_to(render_cmd);
+  render_cmd->add_option("--size", render->size, "Picture size in pixels")->capture_default_str()->check(CLI::Range(8, 8192));
+  render_cmd->add_option("--reference", render->reference,
+                         "PNG: the f·cosθi shown at about 75% grey (default: the sphere's 99th percentile)")
+      ->check(CLI::PositiveNumber);
+  render_cmd->add_option("--out", render->out, "Picture: .png (tone-mapped sRGB) or .exr (linear)")->required();
+  render_cmd->callback([render] { run_render(*render); });
+
+  auto report = std::make_shared<ReportArgs>();
+  CLI::App* report_cmd = app.add_subcommand("report", imaging_summary("report"));
+  report_cmd->add_option("results", report->results, "Result documents, or folders of them (a batch's --out)")->required();
+  report_cmd->add_option("--out", report->out, "The page to write (.html)")->required();
+  report_cmd->add_option("--metric", report->metric, "Rank by: cosine, log, relative, l2 (default: the documents')");
+  report_cmd->add_option("--top", report->top, "Picture only the best N models of each material (0: all)")->capture_default_str()->check(kCountRange);
+  report_cmd->add_option("--size", report->size, "Sphere size in pixels")->capture_default_str()->check(CLI::Range(16, 1024));
+  report->lighting.add_to(report_cmd);
+  report_cmd->callback([report] { run_report(*report); });
+}
+
+}  // namespace brdffit::cli

@@ -1,0 +1,53 @@
+// The commands of brdffit, and the hand-over of the image commands to brdffit-imaging: brdffit
+// itself links no image library, so that `brdffit models` or `brdffit fit` start in a few
+// milliseconds and a few megabytes (README, "Two executables").
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "brdffit/error.h"
+#include "commands.h"
+
+namespace brdffit::cli {
+
+namespace {
+
+constexpr const char* kImagingExecutable = "brdffit-imaging";
+
+// Replaces this process with brdffit-imaging running the same command line: the one beside this
+// executable (a build folder, an installed bin/), else the first on PATH. Returns only to throw.
+[[noreturn]] void hand_over_to_imaging(int argc, char** argv) {
+  std::vector<char*> args(argv, argv + argc);  // argv[0] kept: usage lines keep saying brdffit
+  args.push_back(nullptr);
+  std::error_code error;
+  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
+  const std::string beside = error ? std::string() : (self.parent_path() / kImagingExecutable).string();
+  if (!beside.empty()) ::execv(beside.c_str(), args.data());
+  ::execvp(kImagingExecutable, args.data());
+  fail("{}: needs {}, which is neither beside this brdffit ({}) nor on PATH: {}", argv[1], kImagingExecutable,
+       beside.empty() ? "unknown" : beside, std::strerror(errno));
+}
+
+}  // namespace
+
+void add_commands(CLI::App& app, int argc, char** argv) {
+  for (const CommandSummary& command : kImagingCommands)
+    if (argc > 1 && std::strcmp(argv[1], command.name) == 0) hand_over_to_imaging(argc, argv);
+  add_models_commands(app);
+  add_table_commands(app);
+  add_fit_commands(app);
+  add_batch_commands(app);
+  // Listed in --help; never run here (argv[1] names them, handed over above).
+  for (const CommandSummary& command : kImagingCommands) {
+    CLI::App* listed = app.add_subcommand(command.name, command.summary);
+    listed->prefix_command();
+    listed->allow_extras();
+    listed->callback([argc, argv] { hand_over_to_imaging(argc, argv); });
+  }
+}
+
+}  // namespace brdffit::cli
