@@ -205,6 +205,14 @@ void solve_linear(const Model& model, std::vector<double>& values, const std::ve
 // ---------------------------------------------------------------------------------------------
 // Multi-start grid over the shape parameters.
 
+// One shape parameter's value at coordinate t ∈ (0, 1) of its range, log-spaced for
+// exponents and roughness.
+double at_fraction(const ParamSpec& p, double t) {
+  const double value = p.spacing == Spacing::Log ? p.lower * std::pow(p.upper / p.lower, t)
+                                                 : p.lower + t * (p.upper - p.lower);
+  return p.integer ? std::round(value) : value;
+}
+
 // Candidate values for one shape parameter: n points spread over its range (log-spaced for
 // exponents and roughness), or every integer for integer parameters.
 std::vector<double> grid_axis(const ParamSpec& p, int n) {
@@ -215,11 +223,7 @@ std::vector<double> grid_axis(const ParamSpec& p, int n) {
     for (int k = lo; k <= hi; k += step) axis.push_back(k);
     return axis;
   }
-  for (int k = 0; k < n; ++k) {
-    const double t = (k + 0.5) / n;
-    axis.push_back(p.spacing == Spacing::Log ? p.lower * std::pow(p.upper / p.lower, t)
-                                             : p.lower + t * (p.upper - p.lower));
-  }
+  for (int k = 0; k < n; ++k) axis.push_back(at_fraction(p, (k + 0.5) / n));
   return axis;
 }
 
@@ -228,39 +232,104 @@ struct Start {
   double cost;
 };
 
+// The i-th point (from 1) of the Halton sequence in base `base`: a low-discrepancy coordinate in (0, 1).
+double halton(size_t i, int base) {
+  double value = 0.0, digit = 1.0 / base;
+  for (; i > 0; i /= base, digit /= base) value += digit * static_cast<double>(i % base);
+  return value;
+}
+
 // Every grid point's values with the linear parameters solved, sorted by cost on `samples`.
 std::vector<Start> grid_starts(const Model& model, const std::vector<double>& initial,
                                const std::vector<Sample>& samples, Metric metric, const Channels& channels,
                                const FitOptions& options) {
-  // Grid over the scalar, non-linear parameters. Non-linear colours stay at their start.
+  // The search spans every non-linear parameter; a colour takes the same value in every channel
+  // (a start, the refinement separates them): a model whose shape is all per-channel colours
+  // (sgd) would otherwise start only from its defaults.
   std::vector<const ParamSpec*> axes_params;
   for (const ParamSpec& p : model.parameters())
-    if (!p.linear && p.channels == 1) axes_params.push_back(&p);
+    if (!p.linear) axes_params.push_back(&p);
   const int dims = static_cast<int>(axes_params.size());
   const int per_axis =
       dims == 0 ? 1 : std::clamp(static_cast<int>(std::floor(std::pow(options.grid_points, 1.0 / dims))), 2, 24);
+  // A lattice with 2 points per axis only tries each parameter near a quarter and three quarters
+  // of its range; with that many dimensions a Halton design spreads the same budget over more
+  // distinct values of every parameter.
+  const bool lattice = per_axis >= 3 || dims <= 2;
   std::vector<std::vector<double>> axes;
   size_t total = 1;
-  for (const ParamSpec* p : axes_params) {
-    axes.push_back(grid_axis(*p, per_axis));
-    total *= axes.back().size();
+  if (lattice) {
+    for (const ParamSpec* p : axes_params) {
+      axes.push_back(grid_axis(*p, per_axis));
+      total *= axes.back().size();
+    }
+  } else {
+    total = static_cast<size_t>(std::max(options.grid_points, 1));
   }
+  static constexpr int kPrimes[] = {2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53, 59, 61, 67, 71};
+  auto set = [&](std::vector<double>& values, const ParamSpec& p, double value) {
+    const int offset = model.offset_of(p.name);
+    std::fill_n(values.begin() + offset, p.channels, value);
+  };
 
   std::vector<Start> starts(total + 1);
   // The last entry starts from `initial` itself (the defaults), so the grid never does worse.
   parallel_for(total + 1, thread_count(options.threads), [&](size_t index) {
     std::vector<double> values = initial;
     size_t rest = index;
-    if (index < total)
+    if (index < total && lattice)
       for (int d = 0; d < dims; ++d) {
-        values[model.offset_of(axes_params[d]->name)] = axes[d][rest % axes[d].size()];
+        set(values, *axes_params[d], axes[d][rest % axes[d].size()]);
         rest /= axes[d].size();
       }
+    else if (index < total)
+      for (int d = 0; d < dims; ++d)
+        set(values, *axes_params[d], at_fraction(*axes_params[d], halton(index + 1, kPrimes[d % std::size(kPrimes)])));
     solve_linear(model, values, samples, metric, channels);
     starts[index] = {values, cost_of(model, values, samples, metric, channels, nullptr)};
   });
   std::sort(starts.begin(), starts.end(), [](const Start& a, const Start& b) { return a.cost < b.cost; });
   return starts;
+}
+
+// Coordinate search from a grid point, for models with many shape parameters: each parameter in
+// turn is tried at values spread over its range (the others held, colours set in every channel,
+// the linear parameters solved), keeping any improvement, until a pass changes nothing. A
+// 256-point design in nine dimensions (sgd) rarely lands in the basin of a material's optimum;
+// the search walks there one parameter at a time, at the cost of a few hundred evaluations on
+// the subsample, before the trust region takes over.
+// Where the grid is a Halton design rather than a lattice (see grid_starts).
+bool many_shape_parameters(const Model& model) {
+  const auto& params = model.parameters();
+  return std::count_if(params.begin(), params.end(), [](const ParamSpec& p) { return !p.linear; }) > 5;
+}
+
+Start coordinate_search(const Model& model, Start start, const std::vector<Sample>& samples, Metric metric,
+                        const Channels& channels, const FitOptions& options) {
+  constexpr int kValuesPerParameter = 24, kMaxPasses = 10;
+  std::vector<const ParamSpec*> shape;
+  for (const ParamSpec& p : model.parameters())
+    if (!p.linear) shape.push_back(&p);
+  for (int pass = 0; pass < kMaxPasses; ++pass) {
+    bool improved = false;
+    for (const ParamSpec* p : shape) {
+      const std::vector<double> axis = grid_axis(*p, kValuesPerParameter);
+      std::vector<Start> tries(axis.size());
+      parallel_for(axis.size(), thread_count(options.threads), [&](size_t k) {
+        std::vector<double> values = start.values;
+        std::fill_n(values.begin() + model.offset_of(p->name), p->channels, axis[k]);
+        solve_linear(model, values, samples, metric, channels);
+        tries[k] = {values, cost_of(model, values, samples, metric, channels, nullptr)};
+      });
+      for (Start& t : tries)
+        if (t.cost < start.cost * (1 - 1e-9)) {
+          start = std::move(t);
+          improved = true;
+        }
+    }
+    if (!improved) break;
+  }
+  return start;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -510,6 +579,11 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
   } else {
     starts = grid_starts(model, initial, small, options.metric, channels, options);
     starts.resize(std::min<size_t>(starts.size(), std::max(1, options.starts)));
+    // Searched from, besides the grid points themselves: the search does not always end in the
+    // better basin.
+    if (many_shape_parameters(model))
+      for (size_t i = 0, n = starts.size(); i < n; ++i)
+        starts.push_back(coordinate_search(model, starts[i], small, options.metric, channels, options));
     // The contained models' optima are refined too: the multi-start grid may not come near them.
     for (std::vector<double> nested : nested_starts) {
       solve_linear(model, nested, small, options.metric, channels);
@@ -618,11 +692,17 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
   return fit;
 }
 
-// On a bound to within a millionth of the parameter's range.
-double bound_tolerance(const ParamSpec& p) { return 1e-6 * (p.upper - p.lower); }
-bool at_upper_bound(const ParamSpec& p, double value) { return value >= p.upper - bound_tolerance(p); }
+// On a bound to within a millionth of the parameter's range, measured as the grid spaces it: in
+// log space for log-spaced parameters (c of sgd spans 1e-8 to 1e4; a linear millionth, 0.01,
+// would call 0.006 a value at its lower bound).
+bool at_upper_bound(const ParamSpec& p, double value) {
+  return p.spacing == Spacing::Log ? value >= p.upper * std::pow(p.lower / p.upper, 1e-6)
+                                   : value >= p.upper - 1e-6 * (p.upper - p.lower);
+}
 bool at_bound(const ParamSpec& p, double value) {
-  return value <= p.lower + bound_tolerance(p) || at_upper_bound(p, value);
+  const bool at_lower = p.spacing == Spacing::Log ? value <= p.lower * std::pow(p.upper / p.lower, 1e-6)
+                                                  : value <= p.lower + 1e-6 * (p.upper - p.lower);
+  return at_lower || at_upper_bound(p, value);
 }
 
 // Fills result.parameters from one or three channel fits. stddev = √(σ² (JᵀJ)⁻¹), with

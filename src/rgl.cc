@@ -46,7 +46,7 @@ CellPosition cell_of(double u, int n) {
 
 ParametricGrid2D::ParametricGrid2D(int nx, int ny, std::vector<float> data, std::vector<std::vector<float>> axes,
                                    bool normalise)
-    : nx_(nx), ny_(ny), axes_(std::move(axes)), data_(data.begin(), data.end()) {
+    : nx_(nx), ny_(ny), axes_(std::move(axes)), data_(std::move(data)) {
   size_t slices = 1;
   for (const std::vector<float>& axis : axes_) slices *= axis.size();
   if (nx < 2 || ny < 2 || axes_.size() > 3 || slices == 0 || data_.size() != slices * nx * ny)
@@ -56,20 +56,25 @@ ParametricGrid2D::ParametricGrid2D(int nx, int ny, std::vector<float> data, std:
   conditional_cdf_.assign(data_.size(), 0.0);
   marginal_cdf_.assign(slices * ny, 0.0);
   for (size_t s = 0; s < slices; ++s) {
-    double* d = &data_[s * slice_size];
-    double* conditional = &conditional_cdf_[s * slice_size];
+    float* d = &data_[s * slice_size];
+    float* conditional = &conditional_cdf_[s * slice_size];
     double* marginal = &marginal_cdf_[s * ny];
     // Trapezoidal integrals of the bilinear density: along x per row, then the row totals along y.
-    for (int y = 0; y < ny; ++y)
-      for (int x = 0; x + 1 < nx; ++x)
-        conditional[y * nx + x + 1] = conditional[y * nx + x] + 0.5 * (d[y * nx + x] + d[y * nx + x + 1]);
-    for (int y = 0; y + 1 < ny; ++y)
-      marginal[y + 1] = marginal[y] + 0.5 * (conditional[y * nx + nx - 1] + conditional[(y + 1) * nx + nx - 1]);
+    std::vector<double> row_total(ny);
+    for (int y = 0; y < ny; ++y) {
+      double sum = 0.0;
+      for (int x = 0; x + 1 < nx; ++x) {
+        sum += 0.5 * (double(d[y * nx + x]) + d[y * nx + x + 1]);
+        conditional[y * nx + x + 1] = static_cast<float>(sum);
+      }
+      row_total[y] = sum;
+    }
+    for (int y = 0; y + 1 < ny; ++y) marginal[y + 1] = marginal[y] + 0.5 * (row_total[y] + row_total[y + 1]);
     const double total = marginal[ny - 1];
     const double scale = total > 0.0 ? 1.0 / total : 0.0;
     for (size_t i = 0; i < slice_size; ++i) {
-      d[i] *= scale;
-      conditional[i] *= scale;
+      d[i] = static_cast<float>(d[i] * scale);
+      conditional[i] = static_cast<float>(conditional[i] * scale);
     }
     for (int y = 0; y < ny; ++y) marginal[y] *= scale;
   }
@@ -99,7 +104,8 @@ ParametricGrid2D::SliceBlend ParametricGrid2D::blend(const double* params) const
   return b;
 }
 
-double ParametricGrid2D::at(const std::vector<double>& table, const SliceBlend& b, size_t slice_size, size_t index) {
+template <class Value>
+double ParametricGrid2D::at(const std::vector<Value>& table, const SliceBlend& b, size_t slice_size, size_t index) {
   double value = 0.0;
   for (int k = 0; k < b.count; ++k) value += b.weight[k] * table[b.slice[k] * slice_size + index];
   return value;
@@ -140,7 +146,7 @@ RglBrdf RglBrdf::read(const std::string& path) { return parse(read_file(path), p
 
 RglBrdf RglBrdf::parse(const std::string& bytes, const std::string& name) {
   using Type = TensorFile::Type;
-  const TensorFile file = TensorFile::parse(bytes, name);
+  TensorFile file = TensorFile::parse(bytes, name);
   const auto& theta_i = file.field("theta_i", Type::Float32, 1);
   const auto& phi_i = file.field("phi_i", Type::Float32, 1);
   const auto& ndf = file.field("ndf", Type::Float32, 2);
@@ -167,9 +173,10 @@ RglBrdf RglBrdf::parse(const std::string& bytes, const std::string& name) {
     return std::count_if(values.begin(), values.end(), predicate);
   };
   const std::vector<float> theta_axis = theta_i.floats(), phi_axis = phi_i.floats();
-  // Moved into the grids below, not copied: a large file's tables are held once each.
-  std::vector<float> ndf_values = ndf.floats(), sigma_values = sigma.floats(), vndf_values = vndf.floats();
-  std::vector<float> rgb_values = rgb.floats();
+  // Released from the file and moved into the grids below, not copied: a large file's tables
+  // are held once each.
+  std::vector<float> ndf_values = file.release_floats("ndf"), sigma_values = file.release_floats("sigma");
+  std::vector<float> vndf_values = file.release_floats("vndf"), rgb_values = file.release_floats("rgb");
   for (const auto& [field_name, values] :
        {std::pair{"theta_i", &theta_axis}, {"phi_i", &phi_axis}, {"ndf", &ndf_values}, {"sigma", &sigma_values},
         {"vndf", &vndf_values}, {"rgb", &rgb_values}}) {

@@ -82,6 +82,13 @@ std::vector<float> TensorFile::Field::floats() const {
   return values;
 }
 
+std::vector<float> TensorFile::release_floats(const std::string& field_name) {
+  Field& f = fields_.at(field_name);
+  std::vector<float> values = f.floats();
+  std::vector<uint8_t>().swap(f.bytes);
+  return values;
+}
+
 TensorFile TensorFile::parse(const std::string& bytes, const std::string& name) {
   TensorFile file;
   file.name_ = name;

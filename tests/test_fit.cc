@@ -1,7 +1,9 @@
 // The fitter: parameter recovery for every model, multi-start, metrics on a tiny table, failures.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
+#include <map>
 #include <set>
 
 #include "brdffit/error.h"
@@ -33,26 +35,43 @@ std::vector<double> truth_for(const Model& model) {
   return values;
 }
 
+// The truth where the middle of a range is not a material: the middle of Löw's A (0 to 10⁴) is a
+// lobe a thousand times the albedo, and the middle of sgd's ranges a near-mirror (α = 6e-4) with a
+// shadowing that never acts (c·(θ−θ0)^k ≈ 0); 6000 samples do not determine the albedo under the
+// one nor the shadowing in the other, and the stddevs say so. These are in the range of the
+// published fits instead, away from the fitter's defaults.
+std::vector<double> recovery_truth(const Model& model) {
+  std::vector<double> values = truth_for(model);
+  const std::map<std::string, std::vector<std::string>> overrides = {
+      {"low-smooth", {"A=3,4,5"}},
+      {"low-microfacet", {"A=3,4,5"}},
+      {"sgd",
+       {"specular=0.3,0.4,0.5", "alpha=0.04,0.05,0.06", "p=0.6,0.7,0.8", "f0=0.2,0.25,0.3", "f1=0.1,0.1,0.1", "K=10,10,10",
+        "lambda=1.5,1.5,1.5", "c=0.3,0.3,0.3", "k=3,3,3", "theta0=0.4,0.4,0.4"}}};
+  const auto it = overrides.find(model.name());
+  if (it == overrides.end()) return values;
+  const std::vector<double> overridden = parameter_values(model, it->second);
+  for (const std::string& assignment : it->second) {
+    const ParamSpec& p = *model.find_parameter(assignment.substr(0, assignment.find('=')));
+    const int offset = model.offset_of(p.name);
+    std::copy_n(overridden.begin() + offset, p.channels, values.begin() + offset);
+  }
+  return values;
+}
+
 TEST(Fit, RecoversKnownParametersOfEveryModel) {
-  // Known gap, not a pass: the multi-start grid spans scalar shape parameters only, so models
-  // whose shape parameters are all colours (sgd) start from their defaults and nestings alone,
-  // and low-smooth/low-microfacet at this truth (a lobe 100x the albedo) come back with the
-  // albedo 3-4 stddevs off. Their values are checked at hand points and against the published
-  // fits (test_models_low.cc); recovery here is open work on the fitter's search. gltf-specular:
-  // ior and specularColor both scale F0 (flagged not identifiable), and the trade-off moves
-  // baseColor and metallic by 2-3%; openpbr and principled likewise come back 2-7% off in
-  // their colours with stddevs that do not cover it. Their values are checked at hand points
-  // (test_export.cc); recovering them is open work on the fitter.
-  const std::set<std::string> not_yet_recovered = {"sgd",           "low-smooth", "low-microfacet",
-                                                   "gltf-specular", "openpbr",    "principled"};
   for (const auto& m : all_models()) {
-    if (not_yet_recovered.count(m->name())) continue;
     SCOPED_TRACE(m->name());
-    const std::vector<double> truth = truth_for(*m);
+    const std::vector<double> truth = recovery_truth(*m);
     const SampleSet data = synthetic(*m, truth, 6000, 0.01, 3);
     FitOptions options;
     const FitResult fit = fit_model(*m, data, options);
     ASSERT_TRUE(fit.ok) << fit.error;
+    const std::set<std::string> trade_off = {"gltf-specular", "openpbr", "principled", "sgd"};
+    if (trade_off.count(m->name())) continue;  // FitTradeOff
+    // The optimiser's own test: the fit is at least as good as the truth on these data.
+    const double truth_error = evaluate_metrics(*m, truth, data).get(options.metric);
+    EXPECT_LE(fit.metrics.get(options.metric), truth_error * 1.001);
     // Every parameter is determined by these data, except Lafortune's axis, which is only
     // determined up to scale (LafortuneAxisIsDeterminedOnlyUpToScale).
     int offset = 0;
@@ -91,6 +110,58 @@ TEST(Fit, RecoversKnownParametersOfEveryModel) {
 
 namespace brdffit {
 namespace {
+
+// Models whose values a table does not determine one by one, so that recovery means the same
+// reflectance: on fresh noise-free directions the fit predicts the truth's values, and it flags
+// the values that trade off as not identifiable.
+// - gltf-specular: KHR_materials_ior and specularColor both scale the dielectric F0, exactly;
+//   baseColor and metallic then move by 3-6% along a direction of almost equal cost.
+// - openpbr, principled: specular_ior against specular_weight/specular_color (Disney: specular
+//   against specularTint and metallic) shape F0 and its tint together; fits on these samples end
+//   within 0.1% of the truth's error with ior or colours 2-10% away, in another basin of almost
+//   equal cost, where the local stddevs do not see the other basin; on fresh directions (which
+//   reach grazing angles the 6000 samples cover thinly) they differ from the truth by 0.9% and
+//   2.3% (principled).
+// - sgd: Bagher's K and specular only act as their product; α, p and the shadowing's c, k, θ0
+//   nearly trade off. Known gap: the fitter stops at 3.5x the truth's own error on these
+//   samples (the truth's is the 1% noise), about 2% off the truth's values.
+struct TradeOffCase {
+  const char* model;
+  std::vector<std::string> not_identifiable;
+  double max_relative_error;  // on fresh noise-free directions
+  double max_error_over_truth;  // the fit's error over the truth's, on the fitted samples
+  friend void PrintTo(const TradeOffCase& test, std::ostream* out) { *out << test.model; }
+};
+
+class FitTradeOff : public ::testing::TestWithParam<TradeOffCase> {};
+
+TEST_P(FitTradeOff, ReproducesTheTruthsReflectanceAndFlagsWhatTradesOff) {
+  const TradeOffCase& test = GetParam();
+  const Model& model = *find_model(test.model);
+  const std::vector<double> truth = recovery_truth(model);
+  const SampleSet data = synthetic(model, truth, 6000, 0.01, 3);
+  const FitResult fit = fit_model(model, data, FitOptions{});
+  ASSERT_TRUE(fit.ok) << fit.error;
+  EXPECT_LE(fit.metrics.cosine, test.max_error_over_truth * evaluate_metrics(model, truth, data).cosine);
+  std::vector<double> fitted;
+  for (const ParameterEstimate& p : fit.parameters) fitted.insert(fitted.end(), p.value.begin(), p.value.end());
+  EXPECT_LT(evaluate_metrics(model, fitted, synthetic(model, truth, 4000, 0.0, 11)).relative, test.max_relative_error);
+  for (const ParameterEstimate& p : fit.parameters) {
+    const bool trades_off = std::count(test.not_identifiable.begin(), test.not_identifiable.end(), p.name) > 0;
+    if (trades_off) EXPECT_FALSE(p.identifiable) << p.name;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Fit, FitTradeOff,
+                         ::testing::Values(TradeOffCase{"gltf-specular", {"ior"}, 0.005, 1.001},
+                                           TradeOffCase{"openpbr", {}, 0.02, 1.001},
+                                           TradeOffCase{"principled", {}, 0.035, 1.001},
+                                           TradeOffCase{"sgd", {"specular", "K"}, 0.03, 5.0}),
+                         [](const auto& info) {
+                           std::string name = info.param.model;
+                           std::replace(name.begin(), name.end(), '-', '_');
+                           return name;
+                         });
 
 TEST(Fit, MultiStartFindsTheGlobalMinimumWhereASingleStartDoesNot) {
   // Two GGX lobes, one sharp (roughness 0.05) and one broad (0.7), fitted by one lobe: the

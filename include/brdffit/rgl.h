@@ -52,11 +52,15 @@ class ParametricGrid2D {
   };
   SliceBlend blend(const double* params) const;
   // Blended value of `table` at `index` within a slice of `slice_size` entries.
-  static double at(const std::vector<double>& table, const SliceBlend& b, size_t slice_size, size_t index);
+  template <class Value>
+  static double at(const std::vector<Value>& table, const SliceBlend& b, size_t slice_size, size_t index);
 
   int nx_ = 0, ny_ = 0;
   std::vector<std::vector<float>> axes_;
-  std::vector<double> data_, conditional_cdf_, marginal_cdf_;
+  // The tables in single precision, as the file stores them: a large anisotropic file's vndf
+  // and its CDF are most of the memory a fit of it takes. Sums are formed in double.
+  std::vector<float> data_, conditional_cdf_;
+  std::vector<double> marginal_cdf_;
 };
 
 class RglBrdf final : public MeasuredBrdf {

@@ -33,6 +33,9 @@ class TensorFile {
 
   // The field, checked for type and rank; throws Error naming the file, field and problem.
   const Field& field(const std::string& field_name, Type type, size_t rank) const;
+  // The values of a Float32 field, whose raw bytes are then freed (its shape stays): a large
+  // table is then held once as values, not twice.
+  std::vector<float> release_floats(const std::string& field_name);
   // The field's shape must equal `shape`; 0 in `shape` matches any extent. Throws Error naming
   // the file, field and both shapes otherwise.
   void expect_shape(const std::string& field_name, const std::vector<uint64_t>& shape) const;
