@@ -8,12 +8,16 @@
 #include <cstdio>
 #include <filesystem>
 #include <mutex>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <thread>
 
 #include "brdffit/batch.h"
 #include "brdffit/batch_shard.h"
+#ifdef BRDFFIT_MPI_BATCH
+#include "brdffit/batch_mpi.h"
+#endif
 #include "brdffit/compare.h"
 #include "brdffit/error.h"
 #include "brdffit/io.h"
@@ -166,27 +170,48 @@ void run_batch_command(const BatchArgs& args) {
   const std::optional<Shard> shard = args.shard.empty() ? std::nullopt : std::optional<Shard>(parse_shard(args.shard));
   options.shared_folder = shard.has_value();
   std::vector<BatchMaterial> materials = batch_materials(args.inputs, args.out);
+#ifdef BRDFFIT_MPI_BATCH
+  // brdffit-mpi: the ranks of this MPI job share the materials; rank 0 hands them out, holds the
+  // lock and writes the summary, the others only fit.
+  MpiBatch ranks;
+  if (shard) fail("--shard and mpirun each divide the batch: use one of them");
+  const bool prints = ranks.rank() == 0;
+#else
+  const bool prints = true;
+#endif
   // Held until the summary is written; the shards of one batch each hold their own.
-  const OutputFolderLock lock(args.out, shard ? shard_lock_name(*shard) : OutputFolderLock::kLockName);
+  std::optional<OutputFolderLock> lock;
+  if (prints) lock.emplace(args.out, shard ? shard_lock_name(*shard) : OutputFolderLock::kLockName);
   if (shard) {
     const size_t all = materials.size();
     materials = shard_materials(materials, *shard);
     fmt::print("batch: shard {}/{}: {} of {} materials\n", shard->index, shard->count, materials.size(), all);
   }
+#ifdef BRDFFIT_MPI_BATCH
+  if (prints)
+    fmt::print("batch: {} materials x {} models over {} MPI ranks, one material at a time each; results in {}\n",
+               materials.size(), options.models.size(), ranks.size() - 1, args.out);
+#else
   const BatchPlan plan = plan_batch(options, materials.size());
   fmt::print("batch: {} materials x {} models, {} at a time with {} threads each; results in {}\n", materials.size(),
              options.models.size(), plan.jobs, plan.threads, args.out);
+#endif
   std::fflush(stdout);
 
   const auto started = Clock::now();
-  BatchProgress progress(materials.size(), options.fit.metric, ::isatty(::fileno(stderr)));
+  BatchProgress progress(materials.size(), options.fit.metric, prints && ::isatty(::fileno(stderr)));
   std::vector<MaterialOutcome> outcomes;
   {
     const Ticker ticker([&] { progress.redraw(); });
-    outcomes = run_batch(materials, options,
-                         {[&](const BatchMaterial& m) { progress.started(m); },
-                          [&](const MaterialOutcome& o) { progress.finished(o); }});
+    const BatchEvents events{[&](const BatchMaterial& m) { progress.started(m); },
+                             [&](const MaterialOutcome& o) { progress.finished(o); }};
+#ifdef BRDFFIT_MPI_BATCH
+    outcomes = ranks.run(materials, options, prints ? events : BatchEvents{});
+#else
+    outcomes = run_batch(materials, options, events);
+#endif
   }
+  if (!prints) return;  // an MPI rank that only fitted: rank 0 reports
   progress.close();
   const double seconds = std::chrono::duration<double>(Clock::now() - started).count();
 

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -17,19 +18,29 @@ namespace brdffit::cli {
 namespace {
 
 constexpr const char* kImagingExecutable = "brdffit-imaging";
+constexpr const char* kMpiExecutable = "brdffit-mpi";
 
-// Replaces this process with brdffit-imaging running the same command line: the one beside this
+// Replaces this process with `executable` running the same command line: the one beside this
 // executable (a build folder, an installed bin/), else the first on PATH. Returns only to throw.
-[[noreturn]] void hand_over_to_imaging(int argc, char** argv) {
+[[noreturn]] void hand_over(const char* executable, int argc, char** argv) {
   std::vector<char*> args(argv, argv + argc);  // argv[0] kept: usage lines keep saying brdffit
   args.push_back(nullptr);
   std::error_code error;
   const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
-  const std::string beside = error ? std::string() : (self.parent_path() / kImagingExecutable).string();
+  const std::string beside = error ? std::string() : (self.parent_path() / executable).string();
   if (!beside.empty()) ::execv(beside.c_str(), args.data());
-  ::execvp(kImagingExecutable, args.data());
-  fail("{}: needs {}, which is neither beside this brdffit ({}) nor on PATH: {}", argv[1], kImagingExecutable,
+  ::execvp(executable, args.data());
+  fail("{}: needs {}, which is neither beside this brdffit ({}) nor on PATH: {}", argv[1], executable,
        beside.empty() ? "unknown" : beside, std::strerror(errno));
+}
+[[noreturn]] void hand_over_to_imaging(int argc, char** argv) { hand_over(kImagingExecutable, argc, argv); }
+
+// Whether mpirun started this process as one of several ranks (its environment says so; brdffit
+// itself links no MPI library).
+bool started_by_mpirun() {
+  for (const char* variable : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE"})
+    if (const char* size = std::getenv(variable)) return std::atoi(size) > 1;
+  return false;
 }
 
 }  // namespace
@@ -37,6 +48,8 @@ constexpr const char* kImagingExecutable = "brdffit-imaging";
 void add_commands(CLI::App& app, int argc, char** argv) {
   for (const CommandSummary& command : kImagingCommands)
     if (argc > 1 && std::strcmp(argv[1], command.name) == 0) hand_over_to_imaging(argc, argv);
+  // `mpirun -n N brdffit batch ...`: the ranks share the batch in brdffit-mpi (batch_mpi.h).
+  if (argc > 1 && std::strcmp(argv[1], "batch") == 0 && started_by_mpirun()) hand_over(kMpiExecutable, argc, argv);
   add_models_commands(app);
   add_table_commands(app);
   add_fit_commands(app);

@@ -11,6 +11,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev libfmt-dev libgtest-dev libssl-dev
   openimageio-tools  # OpenImageIO's CMake package refers to its tools (iconvert, ...)
   libxml2-utils      # xmllint checks exported MaterialX and Mitsuba files in the tests
+  libopenmpi-dev openmpi-bin  # brdffit-mpi: one batch over the ranks of an MPI job (mpirun)
   pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib  # the Python module, its tests, examples/
 )
 # node and npm run the Khronos glTF-Validator (below), which checks exported glTF files in the

@@ -2,6 +2,7 @@
 // from a known model, and result documents with known numbers.
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -79,6 +80,23 @@ inline FitResult known_result(const std::string& model, double cosine, std::opti
 inline std::string write_document(const std::string& path, const std::string& input, const std::vector<FitResult>& results) {
   write_file_atomic(path, fit_document_json(input, SampleSet{}, FitOptions{}, results).dump(2));
   return path;
+}
+
+// A result document without its timings: what two runs of the same batch must agree on.
+inline nlohmann::json without_seconds(nlohmann::json document) {
+  for (auto& model : document["models"]) model.erase("seconds");
+  return document;
+}
+
+// Four small materials (two ward, two lambert CSVs) in dir/in, for batches split several ways.
+inline std::string write_shard_inputs(const std::string& dir) {
+  const std::string in = dir + "/in";
+  fs::create_directories(in);
+  write_model_csv(in + "/red.csv", "ward", {"albedo=0.5,0.1,0.1", "specular=0.08", "alpha=0.2"}, 600, 1);
+  write_model_csv(in + "/blue.csv", "lambert", {"albedo=0.1,0.2,0.6"}, 500, 2);
+  write_model_csv(in + "/green.csv", "ward", {"albedo=0.1,0.5,0.1", "specular=0.05", "alpha=0.3"}, 400, 3);
+  write_model_csv(in + "/grey.csv", "lambert", {"albedo=0.4"}, 300, 4);
+  return in;
 }
 
 }  // namespace brdffit::test

@@ -93,23 +93,8 @@ TEST(BatchShard, SharesAreBalancedBySizeLargestFirst) {
 }
 
 // Result documents without their timings, which differ from run to run.
-nlohmann::json without_seconds(nlohmann::json document) {
-  for (auto& model : document["models"]) model.erase("seconds");
-  return document;
-}
-
-std::string write_shard_inputs(const std::string& dir) {
-  const std::string in = dir + "/in";
-  fs::create_directories(in);
-  test::write_model_csv(in + "/red.csv", "ward", {"albedo=0.5,0.1,0.1", "specular=0.08", "alpha=0.2"}, 600, 1);
-  test::write_model_csv(in + "/blue.csv", "lambert", {"albedo=0.1,0.2,0.6"}, 500, 2);
-  test::write_model_csv(in + "/green.csv", "ward", {"albedo=0.1,0.5,0.1", "specular=0.05", "alpha=0.3"}, 400, 3);
-  test::write_model_csv(in + "/grey.csv", "lambert", {"albedo=0.4"}, 300, 4);
-  return in;
-}
-
 TEST(BatchShardCli, ThreeShardsAndAMergeEqualOneProcess) {
-  const std::string dir = test::fresh_dir("shard-run"), in = write_shard_inputs(dir);
+  const std::string dir = test::fresh_dir("shard-run"), in = test::write_shard_inputs(dir);
   const std::string options = " --models lambert,ward --threads 1 --out ";
   ASSERT_EQ(test::run_cli("batch " + in + options + dir + "/single").exit_code, 0);
 
@@ -125,8 +110,8 @@ TEST(BatchShardCli, ThreeShardsAndAMergeEqualOneProcess) {
 
   for (const char* material : {"red", "blue", "green", "grey"}) {
     SCOPED_TRACE(material);
-    EXPECT_EQ(without_seconds(nlohmann::json::parse(read_file(sharded + "/" + material + ".json"))),
-              without_seconds(nlohmann::json::parse(read_file(dir + "/single/" + material + ".json"))));
+    EXPECT_EQ(test::without_seconds(nlohmann::json::parse(read_file(sharded + "/" + material + ".json"))),
+              test::without_seconds(nlohmann::json::parse(read_file(dir + "/single/" + material + ".json"))));
   }
   const nlohmann::json one = nlohmann::json::parse(read_file(dir + "/single/summary.json"));
   const nlohmann::json all = nlohmann::json::parse(read_file(sharded + "/summary.json"));
@@ -138,7 +123,7 @@ TEST(BatchShardCli, ThreeShardsAndAMergeEqualOneProcess) {
 }
 
 TEST(BatchShardCli, AShardThatDiedIsReportedByTheMergeAndRecoveredByResume) {
-  const std::string dir = test::fresh_dir("shard-died"), in = write_shard_inputs(dir), out = dir + "/out";
+  const std::string dir = test::fresh_dir("shard-died"), in = test::write_shard_inputs(dir), out = dir + "/out";
   const std::string batch = "batch " + in + " --models lambert --threads 1 --out " + out;
   // Shards 0 and 2 of 3 finish (2 from a Kubernetes Indexed Job's index); shard 1 never runs.
   ASSERT_EQ(test::run_cli(batch + " --shard 0/3").exit_code, 0);
@@ -161,7 +146,7 @@ TEST(BatchShardCli, AShardThatDiedIsReportedByTheMergeAndRecoveredByResume) {
 }
 
 TEST(BatchShardCli, ShardsShareTheFolderButNoShardRunsTwice) {
-  const std::string dir = test::fresh_dir("shard-lock"), in = write_shard_inputs(dir), out = dir + "/out";
+  const std::string dir = test::fresh_dir("shard-lock"), in = test::write_shard_inputs(dir), out = dir + "/out";
   const std::string batch = "batch " + in + " --models lambert --threads 1 --out " + out;
   // Shard 0 is running (its lock names this live process): shard 1 goes ahead, shard 0 may not.
   fs::create_directories(out);
@@ -184,7 +169,7 @@ TEST(BatchShardCli, MergeAndShardExcludeEachOther) {
 // docs/cluster.md's Slurm script, run as the array tasks 0-2 of `sbatch --array=0-2` would be
 // (the #SBATCH lines are comments to bash), then as the dependent merge job.
 TEST(ClusterDocs, SbatchScriptRunsAsThreeArrayTasksAndAMerge) {
-  const std::string dir = test::fresh_dir("shard-sbatch"), in = write_shard_inputs(dir), out = dir + "/out";
+  const std::string dir = test::fresh_dir("shard-sbatch"), in = test::write_shard_inputs(dir), out = dir + "/out";
   const std::string script = std::string(BRDFFIT_SOURCE_DIR) + "/docs/cluster/brdffit-array.sbatch";
   const std::string environment = fmt::format("BRDFFIT={} INPUTS={} OUT={} MODELS=lambert SLURM_CPUS_PER_TASK=1 ",
                                               BRDFFIT_CLI, in, out);

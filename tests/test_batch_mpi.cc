@@ -1,0 +1,76 @@
+// `mpirun -n N brdffit batch ...`: the ranks share one batch (batch_mpi.h) and write what a
+// single process writes; a job that died is finished by --resume.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <nlohmann/json.hpp>
+
+#include "batch_test_util.h"
+#include "brdffit/io.h"
+#include "test_util.h"
+
+namespace brdffit {
+namespace {
+
+namespace fs = std::filesystem;
+
+// mpirun, as root and with more ranks than cores if need be (this machine has two).
+std::string mpirun(int ranks) {
+  return "mpirun --oversubscribe --allow-run-as-root -n " + std::to_string(ranks) + " " + BRDFFIT_CLI + " ";
+}
+
+// Skips unless brdffit-mpi was built and mpirun runs; under CI (which installs OpenMPI) a build
+// without it is a failure.
+#define SKIP_UNLESS_MPI()                                                                          \
+  do {                                                                                             \
+    const bool in_ci = std::getenv("CI") && std::string(std::getenv("CI")) == "true";              \
+    if (!BRDFFIT_HAVE_MPI || test::run_command("mpirun --version").exit_code != 0) {               \
+      if (in_ci) FAIL() << "CI installs OpenMPI, but brdffit-mpi or mpirun is missing";            \
+      GTEST_SKIP() << "brdffit was built without MPI (libopenmpi-dev) or mpirun is missing";       \
+    }                                                                                              \
+  } while (0)
+
+TEST(BatchMpi, ThreeRanksWriteWhatOneProcessWrites) {
+  SKIP_UNLESS_MPI();
+  const std::string dir = test::fresh_dir("mpi-run"), in = test::write_shard_inputs(dir);
+  const std::string options = " --models lambert,ward --threads 1 --out ";
+  ASSERT_EQ(test::run_cli("batch " + in + options + dir + "/single").exit_code, 0);
+  const auto ranks = test::run_command(mpirun(3) + "batch " + in + options + dir + "/mpi");
+  ASSERT_EQ(ranks.exit_code, 0) << ranks.output;
+  EXPECT_NE(ranks.output.find("over 2 MPI ranks"), std::string::npos) << ranks.output;
+
+  for (const char* material : {"red", "blue", "green", "grey"}) {
+    SCOPED_TRACE(material);
+    EXPECT_EQ(test::without_seconds(nlohmann::json::parse(read_file(dir + "/mpi/" + material + ".json"))),
+              test::without_seconds(nlohmann::json::parse(read_file(dir + "/single/" + material + ".json"))));
+  }
+  const nlohmann::json one = nlohmann::json::parse(read_file(dir + "/single/summary.json"));
+  const nlohmann::json all = nlohmann::json::parse(read_file(dir + "/mpi/summary.json"));
+  ASSERT_EQ(all["materials"].size(), 4u);
+  for (size_t i = 0; i < 4; ++i)
+    for (const char* key : {"material", "input", "status", "best_model", "errors"})
+      EXPECT_EQ(all["materials"][i][key], one["materials"][i][key]) << key;
+  EXPECT_EQ(all["counts"]["ok"], 4);
+  EXPECT_FALSE(fs::exists(dir + "/mpi/.brdffit-batch.lock"));  // released by rank 0
+}
+
+TEST(BatchMpi, ResumeFitsOnlyWhatADeadJobLeftUndone) {
+  SKIP_UNLESS_MPI();
+  const std::string dir = test::fresh_dir("mpi-resume"), in = test::write_shard_inputs(dir), out = dir + "/out";
+  const std::string batch = "batch " + in + " --models lambert --threads 1 --out " + out;
+  ASSERT_EQ(test::run_command(mpirun(3) + batch).exit_code, 0);
+  // A job killed while a rank fitted "green": its document never written, a temporary left.
+  fs::remove(out + "/green.json");
+  write_file_atomic(out + "/green.json.tmp.XXXXXX", "half");
+  const auto resumed = test::run_command(mpirun(3) + batch + " --resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_NE(resumed.output.find("green: ok in"), std::string::npos) << resumed.output;
+  for (const char* material : {"red", "blue", "grey"})
+    EXPECT_NE(resumed.output.find(std::string(material) + ": already done"), std::string::npos) << resumed.output;
+  EXPECT_TRUE(fs::exists(out + "/green.json"));
+  EXPECT_FALSE(fs::exists(out + "/green.json.tmp.XXXXXX"));
+  EXPECT_EQ(nlohmann::json::parse(read_file(out + "/summary.json"))["counts"]["ok"], 4);
+}
+
+}  // namespace
+}  // namespace brdffit
