@@ -8,8 +8,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <mutex>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
 #include <thread>
 
@@ -34,7 +34,8 @@ using Clock = std::chrono::steady_clock;
 
 std::string duration_text(double seconds) {
   const long s = std::lround(seconds);
-  return s >= 3600 ? fmt::format("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60) : fmt::format("{}:{:02}", s / 60, s % 60);
+  return s >= 3600 ? fmt::format("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60)
+                   : fmt::format("{}:{:02}", s / 60, s % 60);
 }
 
 // Progress of a batch on stderr: a line per finished material, and on a terminal a bar below
@@ -103,8 +104,8 @@ class BatchProgress {
     std::string running;
     for (const std::string& name : running_) running += (running.empty() ? "" : ", ") + name;
     if (running.size() > 40) running = running.substr(0, 37) + "...";
-    fmt::print(stderr, "\r\033[K[{}{}] {}/{}  failed {}  {}{}  {}", std::string(filled, '#'), std::string(kWidth - filled, '-'),
-               done_, total_, failed_, duration_text(elapsed()),
+    fmt::print(stderr, "\r\033[K[{}{}] {}/{}  failed {}  {}{}  {}", std::string(filled, '#'),
+               std::string(kWidth - filled, '-'), done_, total_, failed_, duration_text(elapsed()),
                fitted() > 0 && done_ < total_ ? ", ETA " + duration_text(eta()) : std::string(), running);
     std::fflush(stderr);
   }
@@ -122,10 +123,11 @@ class BatchProgress {
 // Calls tick() every second on its own thread until destroyed.
 class Ticker {
  public:
-  explicit Ticker(std::function<void()> tick) : thread_([this, tick] {
-      std::unique_lock<std::mutex> lock(mutex_);
-      while (!stop_.wait_for(lock, std::chrono::seconds(1), [this] { return stopping_; })) tick();
-    }) {}
+  explicit Ticker(std::function<void()> tick)
+      : thread_([this, tick] {
+          std::unique_lock<std::mutex> lock(mutex_);
+          while (!stop_.wait_for(lock, std::chrono::seconds(1), [this] { return stopping_; })) tick();
+        }) {}
   ~Ticker() {
     {
       const std::lock_guard<std::mutex> lock(mutex_);
@@ -223,9 +225,10 @@ void run_batch_command(const BatchArgs& args) {
   }
   const OutcomeCounts counts = count_outcomes(outcomes);
   const size_t failed = counts.failed, partial = counts.partial;
-  fmt::print("batch: {} materials in {}: {} ok ({} already done), {} partly fitted, {} failed; {}\n",
-             outcomes.size(), duration_text(seconds), counts.ok, counts.resumed, partial, failed,
-             shard ? "summary by `brdffit batch ... --merge` once every shard is done" : "summary in " + (out / "summary.csv").string());
+  fmt::print("batch: {} materials in {}: {} ok ({} already done), {} partly fitted, {} failed; {}\n", outcomes.size(),
+             duration_text(seconds), counts.ok, counts.resumed, partial, failed,
+             shard ? "summary by `brdffit batch ... --merge` once every shard is done"
+                   : "summary in " + (out / "summary.csv").string());
   if (failed + partial > 0)
     fail("{} of {} materials failed and {} were only partly fitted (see {})", failed, outcomes.size(), partial,
          shard ? "the lines above" : (out / "summary.json").string());
@@ -272,13 +275,15 @@ void run_export(const ExportArgs& args) {
   }
   fmt::print("wrote {}: the {} material{}\n", args.out, model.name(), values);
   if (!exported.converted) {
-    fmt::print("  the {} fit unchanged ({} error {:.4g})\n", exported.source_model, exported.metric, exported.fit_error);
+    fmt::print("  the {} fit unchanged ({} error {:.4g})\n", exported.source_model, exported.metric,
+               exported.fit_error);
     return;
   }
-  fmt::print("  converted from the {} fit ({} error {:.4g}); on the original data, all samples: converted {:.4g}, "
-             "the {} fit {:.4g}\n",
-             exported.source_model, exported.metric, exported.fit_error, exported.converted_error,
-             exported.source_model, exported.source_error_on_data);
+  fmt::print(
+      "  converted from the {} fit ({} error {:.4g}); on the original data, all samples: converted {:.4g}, "
+      "the {} fit {:.4g}\n",
+      exported.source_model, exported.metric, exported.fit_error, exported.converted_error, exported.source_model,
+      exported.source_error_on_data);
 }
 
 }  // namespace
@@ -286,13 +291,16 @@ void run_export(const ExportArgs& args) {
 void add_batch_commands(CLI::App& app) {
   auto batch = std::make_shared<BatchArgs>();
   CLI::App* batch_cmd = app.add_subcommand("batch", "Fit every model to many tables; one result document per material");
-  batch_cmd->add_option("input", batch->inputs, "Tables, folders of tables, or manifests (one path per line)")->required();
+  batch_cmd->add_option("input", batch->inputs, "Tables, folders of tables, or manifests (one path per line)")
+      ->required();
   batch_cmd->add_option("--models", batch->models, "Comma-separated models, or 'all'")->capture_default_str();
-  batch_cmd->add_option("--metric", batch->metric, "What to minimise: cosine, log, relative, l2")->capture_default_str();
+  batch_cmd->add_option("--metric", batch->metric, "What to minimise: cosine, log, relative, l2")
+      ->capture_default_str();
   batch_cmd->add_option("--loss", batch->loss, "Robust loss per sample: none, huber, cauchy")->capture_default_str();
   batch_cmd->add_flag("--per-channel", batch->per_channel, "Fit shape parameters per colour channel");
   batch->converge.add_to(batch_cmd);
-  batch_cmd->add_option("--out", batch->out, "Folder for the result documents and summary.{json,csv}")->capture_default_str();
+  batch_cmd->add_option("--out", batch->out, "Folder for the result documents and summary.{json,csv}")
+      ->capture_default_str();
   batch_cmd->add_option("--jobs", batch->jobs, "Materials fitted at once")->capture_default_str()->check(kJobsRange);
   batch_cmd->add_option("--threads", batch->threads, "Threads per material (0: the cores shared among the jobs)")
       ->check(kThreadsRange);
@@ -300,15 +308,18 @@ void add_batch_commands(CLI::App& app) {
   CLI::Option* shard = batch_cmd->add_option(
       "--shard", batch->shard,
       "Fit only share K of N (K/N, 0-based); auto: from a Slurm job array; auto/N: from a Kubernetes Indexed Job");
-  batch_cmd->add_flag("--merge", batch->merge, "Fit nothing: write the summary of what the shards wrote")->excludes(shard);
+  batch_cmd->add_flag("--merge", batch->merge, "Fit nothing: write the summary of what the shards wrote")
+      ->excludes(shard);
   batch->sampling.add_to(batch_cmd);
   batch_cmd->callback([batch] { run_batch_command(*batch); });
 
   auto compare = std::make_shared<CompareArgs>();
   CLI::App* compare_cmd = app.add_subcommand("compare", "Rank models per material and over a set of result documents");
-  compare_cmd->add_option("results", compare->results, "Result documents, or folders of them (a batch's --out)")->required();
+  compare_cmd->add_option("results", compare->results, "Result documents, or folders of them (a batch's --out)")
+      ->required();
   compare_cmd->add_option("--metric", compare->metric, "Rank by: cosine, log, relative, l2 (default: the documents')");
-  compare_cmd->add_option("--csv", compare->csv, "Write the per-model table with every material's error and rank (CSV)");
+  compare_cmd->add_option("--csv", compare->csv,
+                          "Write the per-model table with every material's error and rank (CSV)");
   compare_cmd->add_option("--markdown", compare->markdown, "Write the tables as Markdown");
   compare_cmd->callback([compare] { run_compare(*compare); });
 

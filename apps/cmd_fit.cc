@@ -114,8 +114,11 @@ void run_score_published(const ScoreArgs& args, const SampleSet& data) {
   for (const PublishedFit& fit : fits) {
     const Metrics m = evaluate_metrics(*find_model(fit.model), fit.values, data);
     if (args.json) {
-      out.push_back({{"material", material}, {"model", fit.model}, {"published", fit.term},
-                     {"values", fit.values}, {"metrics", metrics_json(m)}});
+      out.push_back({{"material", material},
+                     {"model", fit.model},
+                     {"published", fit.term},
+                     {"values", fit.values},
+                     {"metrics", metrics_json(m)}});
     } else {
       fmt::print("{} ({} of {} in {}) on {} ({} samples, {} weights)\n{}\n", fit.model, fit.term, material,
                  args.published, args.data, data.size(), data.weighting, metrics_line(m));
@@ -180,12 +183,15 @@ void add_fit_commands(CLI::App& app) {
   score_cmd->add_option("data", score->data, "Measured table")->required();
   score_cmd->add_option("--model", score->model,
                         "Model name (with --material: convert the material to it; or --published)");
-  score_cmd->add_option("--published", score->published,
-                        "A BBM .fit file of published parameters: scores the material's line for every model it maps onto");
-  score_cmd->add_option("--material", score->material,
-                        "Score the material of a .gltf, .mtlx or Mitsuba .xml file (with --published: the line to score)");
-  score_cmd->add_option("--name", score->name,
-                        "The material to score when the file holds several (--published: default the table's file name)");
+  score_cmd->add_option(
+      "--published", score->published,
+      "A BBM .fit file of published parameters: scores the material's line for every model it maps onto");
+  score_cmd->add_option(
+      "--material", score->material,
+      "Score the material of a .gltf, .mtlx or Mitsuba .xml file (with --published: the line to score)");
+  score_cmd->add_option(
+      "--name", score->name,
+      "The material to score when the file holds several (--published: default the table's file name)");
   score_cmd->add_option("--param", score->params, "NAME=VALUE (colours: one value or R,G,B); repeatable");
   score_cmd->add_flag("--json", score->json, "Print JSON");
   score->sampling.add_to(score_cmd);

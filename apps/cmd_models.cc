@@ -15,11 +15,19 @@ namespace {
 nlohmann::json model_json(const Model& model) {
   nlohmann::json params = nlohmann::json::array();
   for (const ParamSpec& p : model.parameters())
-    params.push_back({{"name", p.name}, {"channels", p.channels}, {"lower", p.lower}, {"upper", p.upper},
-                      {"default", p.default_value}, {"meaning", p.meaning}, {"role", role_name(p.role)},
+    params.push_back({{"name", p.name},
+                      {"channels", p.channels},
+                      {"lower", p.lower},
+                      {"upper", p.upper},
+                      {"default", p.default_value},
+                      {"meaning", p.meaning},
+                      {"role", role_name(p.role)},
                       {"integer", p.integer}});
-  return {{"model", model.name()}, {"summary", model.summary()}, {"brdf", model.has_brdf()},
-          {"energy_conserving", model.energy_conserving()}, {"parameters", params}};
+  return {{"model", model.name()},
+          {"summary", model.summary()},
+          {"brdf", model.has_brdf()},
+          {"energy_conserving", model.energy_conserving()},
+          {"parameters", params}};
 }
 
 void print_models(bool json) {
@@ -32,13 +40,14 @@ void print_models(bool json) {
   for (const auto& m : all_models()) {
     fmt::print("{:<18} {}\n", m->name(), m->summary());
     for (const ParamSpec& p : m->parameters())
-      fmt::print("    {:<14} {:<5} [{:g}, {:g}] default {:g}  {}\n", p.name, p.channels == 3 ? "rgb" : (p.integer ? "int" : ""),
-                 p.lower, p.upper, p.default_value, p.meaning);
+      fmt::print("    {:<14} {:<5} [{:g}, {:g}] default {:g}  {}\n", p.name,
+                 p.channels == 3 ? "rgb" : (p.integer ? "int" : ""), p.lower, p.upper, p.default_value, p.meaning);
   }
-  fmt::print("\nTwo specular lobes over one Lambert base: FIRST+SECOND (e.g. --models ggx+ggx, cook-torrance+cook-torrance,\n"
-             "ggx+beckmann) with any two models above that are a lobe over albedo/π. The second lobe's parameters\n"
-             "take the suffix _2 (roughness_2); a weight_2 scales it when its own scale cannot switch it off.\n"
-             "`brdffit eval ggx+ggx --param roughness_2=0.1 ...` works as for any model. 'all' is the list above.\n");
+  fmt::print(
+      "\nTwo specular lobes over one Lambert base: FIRST+SECOND (e.g. --models ggx+ggx, cook-torrance+cook-torrance,\n"
+      "ggx+beckmann) with any two models above that are a lobe over albedo/π. The second lobe's parameters\n"
+      "take the suffix _2 (roughness_2); a weight_2 scales it when its own scale cannot switch it off.\n"
+      "`brdffit eval ggx+ggx --param roughness_2=0.1 ...` works as for any model. 'all' is the list above.\n");
 }
 
 struct EvalArgs {

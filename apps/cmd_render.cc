@@ -24,7 +24,8 @@ struct LightingArgs {
   std::string light, view;
 
   void add_to(CLI::App* command) {
-    command->add_option("--light", light, "Direction towards the light X,Y,Z (picture: x right, y up, z toward you; default -1,1,2)");
+    command->add_option("--light", light,
+                        "Direction towards the light X,Y,Z (picture: x right, y up, z toward you; default -1,1,2)");
     command->add_option("--view", view, "Direction towards the camera X,Y,Z (default 0,0,1)");
   }
   SphereLighting lighting() const {
@@ -106,23 +107,32 @@ void run_report(const ReportArgs& args) {
 void add_render_commands(CLI::App& app) {
   auto render = std::make_shared<RenderArgs>();
   CLI::App* render_cmd = app.add_subcommand("render", imaging_summary("render"));
-  render_cmd->add_option("input", render->input, "Measured table (MERL, RGL), or a result document with --model")->required();
+  render_cmd->add_option("input", render->input, "Measured table (MERL, RGL), or a result document with --model")
+      ->required();
   render_cmd->add_option("--model", render->model, "The fitted model to render from a result document");
   render->lighting.add_to(render_cmd);
-  render_cmd->add_option("--size", render->size, "Picture size in pixels")->capture_default_str()->check(CLI::Range(8, 8192));
-  render_cmd->add_option("--reference", render->reference,
-                         "PNG: the f·cosθi shown at about 75% grey (default: the sphere's 99th percentile)")
+  render_cmd->add_option("--size", render->size, "Picture size in pixels")
+      ->capture_default_str()
+      ->check(CLI::Range(8, 8192));
+  render_cmd
+      ->add_option("--reference", render->reference,
+                   "PNG: the f·cosθi shown at about 75% grey (default: the sphere's 99th percentile)")
       ->check(CLI::PositiveNumber);
   render_cmd->add_option("--out", render->out, "Picture: .png (tone-mapped sRGB) or .exr (linear)")->required();
   render_cmd->callback([render] { run_render(*render); });
 
   auto report = std::make_shared<ReportArgs>();
   CLI::App* report_cmd = app.add_subcommand("report", imaging_summary("report"));
-  report_cmd->add_option("results", report->results, "Result documents, or folders of them (a batch's --out)")->required();
+  report_cmd->add_option("results", report->results, "Result documents, or folders of them (a batch's --out)")
+      ->required();
   report_cmd->add_option("--out", report->out, "The page to write (.html)")->required();
   report_cmd->add_option("--metric", report->metric, "Rank by: cosine, log, relative, l2 (default: the documents')");
-  report_cmd->add_option("--top", report->top, "Picture only the best N models of each material (0: all)")->capture_default_str()->check(kCountRange);
-  report_cmd->add_option("--size", report->size, "Sphere size in pixels")->capture_default_str()->check(CLI::Range(16, 1024));
+  report_cmd->add_option("--top", report->top, "Picture only the best N models of each material (0: all)")
+      ->capture_default_str()
+      ->check(kCountRange);
+  report_cmd->add_option("--size", report->size, "Sphere size in pixels")
+      ->capture_default_str()
+      ->check(CLI::Range(16, 1024));
   report->lighting.add_to(report_cmd);
   report_cmd->callback([report] { run_report(*report); });
 }

@@ -103,8 +103,9 @@ void print_observation(const SphereObservation& o) {
              o.intensities_known ? "given" : fmt::format("unknown, values divided by {:.4g}", o.intensity_scale),
              o.exposures_from);
   const PixelCounts& p = o.pixels;
-  fmt::print("pixels: {} on the sphere x {} images = {}: {} used, {} in shadow, {} grazing, {} saturated, {} too dark\n",
-             o.sphere_pixels, o.images.size(), p.total(), p.used, p.shadow, p.grazing, p.saturated, p.dark);
+  fmt::print(
+      "pixels: {} on the sphere x {} images = {}: {} used, {} in shadow, {} grazing, {} saturated, {} too dark\n",
+      o.sphere_pixels, o.images.size(), p.total(), p.used, p.shadow, p.grazing, p.saturated, p.dark);
 }
 
 // Models ranked by how well they reproduce the photographs.
@@ -114,9 +115,10 @@ void print_results(const std::vector<FitResult>& fits, const std::vector<PhotoEr
   std::vector<const FitResult*> order;
   for (const FitResult& f : fits) order.push_back(&f);
   const auto error_of = [&](const FitResult* f) { return f->ok ? image_error[f->model] : HUGE_VAL; };
-  std::stable_sort(order.begin(), order.end(), [&](const FitResult* a, const FitResult* b) { return error_of(a) < error_of(b); });
-  fmt::print("{:<16} {:<7} {:>14} {:>10} {:>8}  parameters\n", "model", "verdict", "image rel. RMS", metric_name(metric),
-             "seconds");
+  std::stable_sort(order.begin(), order.end(),
+                   [&](const FitResult* a, const FitResult* b) { return error_of(a) < error_of(b); });
+  fmt::print("{:<16} {:<7} {:>14} {:>10} {:>8}  parameters\n", "model", "verdict", "image rel. RMS",
+             metric_name(metric), "seconds");
   for (const FitResult* f : order) {
     if (!f->ok) {
       fmt::print("{:<16} failed: {}\n", f->model, f->error);
@@ -131,7 +133,8 @@ void print_results(const std::vector<FitResult>& fits, const std::vector<PhotoEr
 void run_sphere(const SphereArgs& args) {
   set_max_image_pixels(args.max_pixels);
   const FitOptions options = fit_options(args.metric, args.loss, false, args.threads, args.seed, args.converge);
-  if (args.images_format != "png" && args.images_format != "exr") fail("--images-format: png or exr, not '{}'", args.images_format);
+  if (args.images_format != "png" && args.images_format != "exr")
+    fail("--images-format: png or exr, not '{}'", args.images_format);
   const std::vector<const Model*> models = parse_model_list(args.models);
   const SphereInput input = sphere_input(args);
   check_outputs(sphere_input_files(input), {args.out});  // before the work, not after it
@@ -149,7 +152,9 @@ void run_sphere(const SphereArgs& args) {
   print_results(fits, errors, options.metric);
   if (!args.images_out.empty()) fmt::print("images: measured | fit | error in {}/<model>/\n", args.images_out);
   if (!args.out.empty())
-    write_file_atomic(args.out, sphere_document_json(input_path(args), input, observation, fitted, options, fits, errors).dump(2) + "\n");
+    write_file_atomic(
+        args.out,
+        sphere_document_json(input_path(args), input, observation, fitted, options, fits, errors).dump(2) + "\n");
   if (std::none_of(fits.begin(), fits.end(), [](const FitResult& f) { return f.ok; }))
     fail("{}: every model failed to fit", input_path(args));
 }
@@ -185,56 +190,76 @@ void add_sphere_commands(CLI::App& app) {
   CLI::App* sphere = app.add_subcommand("sphere", imaging_summary("sphere"));
   sphere->add_option("input", args->inputs, "Photographs (EXR, HDR, TIFF, PNG, JPEG), or one DiLiGenT object folder")
       ->required();
-  CLI::Option* lights =
-      sphere->add_option("--lights", args->lights, "Light directions, one 'x y z' per image (x right, y up, z toward the camera)");
-  sphere->add_option("--intensities", args->intensities, "Light intensities, one 'r g b' per image (pixels are divided by them)");
+  CLI::Option* lights = sphere->add_option(
+      "--lights", args->lights, "Light directions, one 'x y z' per image (x right, y up, z toward the camera)");
+  sphere->add_option("--intensities", args->intensities,
+                     "Light intensities, one 'r g b' per image (pixels are divided by them)");
   sphere->add_option("--exposures", args->exposures, "Exposure times, one per image (default: the files' metadata)");
   sphere->add_option("--mask", args->mask, "Mask of the sphere (default: the sphere is detected)");
-  sphere->add_option("--normals", args->normals,
-                     "Ground-truth normal map, (n+1)/2 per pixel: report how far the located sphere's normals lie from it "
-                     "(a DiLiGenT folder's Normal_gt.png is used by default)");
-  sphere->add_option("--chrome", args->chrome, "Photographs of a chrome ball under the same lights: estimate the lights")
+  sphere->add_option(
+      "--normals", args->normals,
+      "Ground-truth normal map, (n+1)/2 per pixel: report how far the located sphere's normals lie from it "
+      "(a DiLiGenT folder's Normal_gt.png is used by default)");
+  sphere
+      ->add_option("--chrome", args->chrome, "Photographs of a chrome ball under the same lights: estimate the lights")
       ->excludes(lights);
   sphere->add_option("--chrome-mask", args->chrome_mask, "Mask of the chrome ball (default: detected)");
-  sphere->add_option("--focal", args->focal, "Perspective camera with this focal length in pixels (default: orthographic)")
+  sphere
+      ->add_option("--focal", args->focal,
+                   "Perspective camera with this focal length in pixels (default: orthographic)")
       ->check(CLI::PositiveNumber);
-  CLI::Option* gamma = sphere->add_option("--gamma", args->gamma, "Decode every image as value^GAMMA, or 'srgb' (default: 8-bit sRGB, deeper linear)");
+  CLI::Option* gamma = sphere->add_option(
+      "--gamma", args->gamma, "Decode every image as value^GAMMA, or 'srgb' (default: 8-bit sRGB, deeper linear)");
   sphere->add_flag("--linear", args->linear, "Every image is linear, 8-bit ones too")->excludes(gamma);
   sphere->add_option("--models", args->models, "Comma-separated models, or 'all'")->capture_default_str();
   sphere->add_option("--metric", args->metric, "What to minimise: cosine, log, relative, l2")->capture_default_str();
   sphere->add_option("--loss", args->loss, "Robust loss per sample: none, huber, cauchy")->capture_default_str();
-  sphere->add_option("--max-samples", args->max_samples, "Fit a deterministic random subset of this many pixels (0: all)")->capture_default_str()->check(kCountRange);
+  sphere
+      ->add_option("--max-samples", args->max_samples, "Fit a deterministic random subset of this many pixels (0: all)")
+      ->capture_default_str()
+      ->check(kCountRange);
   sphere->add_option("--seed", args->seed, "Seed of the subset")->check(kSeedRange);
   sphere->add_option("--threads", args->threads, "Threads (0: every core)")->check(kThreadsRange);
   args->converge.add_to(sphere);
   sphere->add_option("--max-angle", args->rules.max_angle_deg, "Leave out pixels with θi or θo above this (degrees)")
       ->capture_default_str()
       ->check(CLI::Range(1.0, 90.0));
-  sphere->add_option("--saturation", args->rules.saturation, "Leave out pixels with a channel at this fraction of full scale")
+  sphere
+      ->add_option("--saturation", args->rules.saturation,
+                   "Leave out pixels with a channel at this fraction of full scale")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
-  sphere->add_option("--dark", args->rules.dark, "Leave out pixels whose brightest channel is below this fraction of full scale")
+  sphere
+      ->add_option("--dark", args->rules.dark,
+                   "Leave out pixels whose brightest channel is below this fraction of full scale")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
   sphere->add_option("--max-pixels", args->max_pixels, "Refuse photographs with more pixels than this (bounds memory)")
       ->capture_default_str()
       ->check(kCountRange);
   sphere->add_option("--out", args->out, "Write the result document (JSON)");
-  sphere->add_option("--images-out", args->images_out, "Write measured | fit | error images per model and photograph here");
-  sphere->add_option("--images-format", args->images_format, "png (sRGB, for viewing) or exr (linear values)")->capture_default_str();
+  sphere->add_option("--images-out", args->images_out,
+                     "Write measured | fit | error images per model and photograph here");
+  sphere->add_option("--images-format", args->images_format, "png (sRGB, for viewing) or exr (linear values)")
+      ->capture_default_str();
   sphere->callback([args] { run_sphere(*args); });
 
   auto capture_args = std::make_shared<CaptureArgs>();
   CLI::App* capture_cmd = app.add_subcommand("capture", imaging_summary("capture"));
-  capture_cmd->add_option("source", capture_args->options.source, "Camera index, video file, or image sequence pattern (shot_%02d.png)")
+  capture_cmd
+      ->add_option("source", capture_args->options.source,
+                   "Camera index, video file, or image sequence pattern (shot_%02d.png)")
       ->required();
-  capture_cmd->add_option("--exposures", capture_args->options.exposures, "Exposure time of each group of frames, in order (T1,T2,...)")
+  capture_cmd
+      ->add_option("--exposures", capture_args->options.exposures,
+                   "Exposure time of each group of frames, in order (T1,T2,...)")
       ->delimiter(',');
   capture_cmd->add_option("--frames", capture_args->options.frames_per_exposure, "Frames averaged per exposure")
       ->capture_default_str()
       ->check(kFramesRange);
   capture_cmd->add_option("--out", capture_args->out, "Image to write (EXR keeps the linear values)")->required();
-  capture_cmd->add_option("--response", capture_args->response, "Write the recovered camera response (CSV: code,r,g,b)");
+  capture_cmd->add_option("--response", capture_args->response,
+                          "Write the recovered camera response (CSV: code,r,g,b)");
   capture_cmd->callback([capture_args] { run_capture(*capture_args); });
 }
 

@@ -17,8 +17,12 @@ namespace {
 void run_info(const std::string& path, bool json) {
   const TableInfo info = describe_measured(path);
   if (json) {
-    nlohmann::json out = {{"format", info.format}, {"resolution", info.resolution}, {"valid", info.valid},
-                          {"invalid", info.invalid}, {"min", json_array(info.min)},     {"max", json_array(info.max)},
+    nlohmann::json out = {{"format", info.format},
+                          {"resolution", info.resolution},
+                          {"valid", info.valid},
+                          {"invalid", info.invalid},
+                          {"min", json_array(info.min)},
+                          {"max", json_array(info.max)},
                           {"albedo", info.albedo.allFinite() ? json_array(info.albedo) : nlohmann::json(nullptr)}};
     fmt::print("{}\n", out.dump());
     return;

@@ -2,8 +2,8 @@
 // print values.
 #pragma once
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -21,11 +21,11 @@ namespace brdffit::cli {
 
 // The ranges counts given on the command line must lie in, checked by CLI11 before a command
 // runs: a negative or absurd value (--threads -5, --max-samples -1) is a typo, never a wish.
-inline const CLI::Range kThreadsRange(0, 1024);               // --threads (0: every core)
-inline const CLI::Range kJobsRange(1, 1024);                  // --jobs
+inline const CLI::Range kThreadsRange(0, 1024);                           // --threads (0: every core)
+inline const CLI::Range kJobsRange(1, 1024);                              // --jobs
 inline const CLI::Range kCountRange(int64_t{0}, int64_t{1000000000000});  // --max-samples, --top (0: all)
-inline const CLI::Range kFramesRange(1, 100000);              // --frames
-inline const CLI::Validator& kSeedRange = CLI::NonNegativeNumber;  // --seed: any uint64, not -1 wrapped
+inline const CLI::Range kFramesRange(1, 100000);                          // --frames
+inline const CLI::Validator& kSeedRange = CLI::NonNegativeNumber;         // --seed: any uint64, not -1 wrapped
 
 struct SamplingArgs {
   double max_angle = 90.0;
@@ -39,8 +39,9 @@ struct SamplingArgs {
     command->add_option("--max-samples", max_samples, "Fit a deterministic random subset of this many samples (0: all)")
         ->check(kCountRange);
     command->add_option("--seed", seed, "Seed of the subset")->check(kSeedRange);
-    command->add_option("--weighting", weighting,
-                        "solid-angle (Ngan 2005), or low: ÷ sinθo, Löw 2012's measure (with --metric log: Löw's E2)")
+    command
+        ->add_option("--weighting", weighting,
+                     "solid-angle (Ngan 2005), or low: ÷ sinθo, Löw 2012's measure (with --metric log: Löw's E2)")
         ->check(CLI::IsMember({"solid-angle", "low"}));
   }
   SamplingOptions options() const { return {max_angle, max_samples, seed, weighting == "low"}; }

@@ -18,8 +18,7 @@ using namespace brdffit;
 
 namespace {
 
-void report(const Model& model, const SampleSet& data, const std::vector<double>& truth, double rotation,
-            int threads) {
+void report(const Model& model, const SampleSet& data, const std::vector<double>& truth, double rotation, int threads) {
   FitOptions options;
   options.threads = threads;
   const FitResult fit = fit_model(model, data, options);

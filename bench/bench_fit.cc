@@ -53,8 +53,9 @@ int main(int argc, char** argv) {
   bool converge = false;
   int polish = FitOptions{}.polish_iterations;
   app.add_option("--polish", polish, "Steps on all samples after the largest subset");
-  app.add_flag("--converge", converge,
-               "Iterate to convergence on all samples instead of polishing after the largest subset (compare the errors)");
+  app.add_flag(
+      "--converge", converge,
+      "Iterate to convergence on all samples instead of polishing after the largest subset (compare the errors)");
   FitOptions options;
   app.add_option("--starts", options.starts, "Best grid points refined on the subsample");
   app.add_option("--grid-points", options.grid_points, "Multi-start grid size");
@@ -64,7 +65,10 @@ int main(int argc, char** argv) {
   app.add_option("--metric", metric, "Metric minimised");
   CLI11_PARSE(app, argc, argv);
   try {
-    if (const auto parsed = parse_metric(metric)) options.metric = *parsed; else fail("unknown metric '{}'", metric);
+    if (const auto parsed = parse_metric(metric))
+      options.metric = *parsed;
+    else
+      fail("unknown metric '{}'", metric);
     const auto load_start = std::chrono::steady_clock::now();
     const SampleSet data = synthetic ? synthetic_ggx(synthetic) : load_samples(table, SamplingOptions{});
     const double load_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - load_start).count();
@@ -92,8 +96,7 @@ int main(int argc, char** argv) {
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       total += seconds;
       fmt::print("{:<18} {:>7.3f} s  cosine {:.5g}  log {:.5g}  iterations {:>3}  {}\n", m->name(), seconds,
-                 fit.metrics.cosine, fit.metrics.log,
-                 fit.iterations, fit.ok ? "ok" : fit.error);
+                 fit.metrics.cosine, fit.metrics.log, fit.iterations, fit.ok ? "ok" : fit.error);
     }
     fmt::print("total fit time {:.2f} s; peak memory {:.0f} MB\n", total, peak_rss_mb());
   } catch (const Error& e) {

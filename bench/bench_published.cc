@@ -99,8 +99,8 @@ int main(int argc, char** argv) {
           const double mine = ours.metrics.get(row.metric);
           const std::string label =
               fmt::format("{} ({}{})", row.file, metric_name(row.metric), low_weighting ? ", Löw" : "");
-          fmt::print("{:<20} {:<22} {:<28} {:>12.6g} {:>12.6g} {:>8.3f} {:>8.1f}{}", material, row.model, label,
-                     theirs, mine, mine / theirs, ours.seconds, ours.ok ? "" : "  " + ours.error);
+          fmt::print("{:<20} {:<22} {:<28} {:>12.6g} {:>12.6g} {:>8.3f} {:>8.1f}{}", material, row.model, label, theirs,
+                     mine, mine / theirs, ours.seconds, ours.ok ? "" : "  " + ours.error);
           if (mine > theirs) {
             // For the fitter's owner: is it the start or the descent? The same fit started from
             // the published values, clamped into our bounds.

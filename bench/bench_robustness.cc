@@ -18,8 +18,8 @@
 // With --repeat K the first K members are fitted again and every error must be bit-identical.
 #include <unistd.h>
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include <chrono>
 #include <filesystem>
@@ -44,12 +44,12 @@ struct Member {
 
 struct ParameterSet {
   const char* name;
-  double shape_t;       // where shape parameters sit in their range (log-spaced where the model says so)
+  double shape_t;        // where shape parameters sit in their range (log-spaced where the model says so)
   double diffuse, lobe;  // diffuse and lobe colours as fractions of min(upper, 1)
 };
 
 const ParameterSet kParameterSets[] = {
-    {"middle", 0.5, 0.5, 0.3}, {"low", 0.03, 0.4, 0.3}, {"high", 0.97, 0.4, 0.3},
+    {"middle", 0.5, 0.5, 0.3}, {"low", 0.03, 0.4, 0.3},     {"high", 0.97, 0.4, 0.3},
     {"dark", 0.5, 0.03, 0.02}, {"metallic", 0.4, 0.0, 0.9},
 };
 
@@ -105,11 +105,13 @@ std::vector<Member> members(const std::vector<const Model*>& models, const std::
   if (!shared.empty() && fs::is_directory(fs::path(shared) / "data/rgl"))
     for (const auto& entry : fs::directory_iterator(fs::path(shared) / "data/rgl"))
       if (entry.path().extension() == ".bsdf")
-        list.push_back({"rgl/" + entry.path().stem().string(), [=] { return load_samples(entry.path().string(), sampling); }});
+        list.push_back(
+            {"rgl/" + entry.path().stem().string(), [=] { return load_samples(entry.path().string(), sampling); }});
   if (!merl.empty() && fs::is_directory(merl))
     for (const auto& entry : fs::directory_iterator(merl))
       if (entry.path().extension() == ".binary")
-        list.push_back({"merl/" + entry.path().stem().string(), [=] { return load_samples(entry.path().string(), sampling); }});
+        list.push_back(
+            {"merl/" + entry.path().stem().string(), [=] { return load_samples(entry.path().string(), sampling); }});
   const fs::path ball = fs::path(shared) / "data/diligent-ball";
   if (!shared.empty() && fs::is_directory(ball))
     list.push_back({"diligent/ball", [=] {
@@ -193,7 +195,8 @@ int main(int argc, char** argv) {
     const SamplingOptions sampling{90.0, max_samples, 1};
     std::vector<Member> list = members(models, shared, merl, sampling, scratch);
     if (!only.empty())
-      list.erase(std::remove_if(list.begin(), list.end(), [&](const Member& m) { return m.name.find(only) == std::string::npos; }),
+      list.erase(std::remove_if(list.begin(), list.end(),
+                                [&](const Member& m) { return m.name.find(only) == std::string::npos; }),
                  list.end());
     Tally tally;
     double total_seconds = 0.0, worst_seconds = 0.0;
@@ -239,7 +242,8 @@ int main(int argc, char** argv) {
     fmt::print("poor verdicts: {} ({} deserved: error >= 1.5x the best model's), failed: {}\n", tally.poor,
                tally.poor_deserved, tally.failed);
     fmt::print("good fits worse than Lambert by more than 5%: {}\n", tally.good_worse_than_lambert);
-    fmt::print("worst ratio of a good fit's error to Lambert's: {:.4f} ({})\n", tally.worst_good_ratio, tally.worst_good);
+    fmt::print("worst ratio of a good fit's error to Lambert's: {:.4f} ({})\n", tally.worst_good_ratio,
+               tally.worst_good);
     if (repeat > 0) fmt::print("repeated {} members: {} errors differ\n", first_errors.size(), repeat_mismatches);
     fmt::print("seconds per member (all {} models): mean {:.2f}, worst {:.2f}\n", models.size(),
                total_seconds / std::max<size_t>(1, list.size()), worst_seconds);

@@ -87,7 +87,8 @@ void chrome(const std::string& dir) {
                           Camera{});
     std::vector<double> errors;
     for (size_t i = 0; i < lights.size(); ++i)
-      errors.push_back(test::angle_deg(light_from_chrome(read_image(scene.images[i]), ball, scene.images[i]), lights[i]));
+      errors.push_back(
+          test::angle_deg(light_from_chrome(read_image(scene.images[i]), ball, scene.images[i]), lights[i]));
     std::sort(errors.begin(), errors.end());
     fmt::print("chrome ball    {:<22} {} lights up to 60°: median {:.3f}°, worst {:.3f}°\n", e.name, lights.size(),
                errors[errors.size() / 2], errors.back());

@@ -29,8 +29,8 @@ int main(int argc, char** argv) {
     const Model& single = *find_model(first_lobe.inner);
     FitOptions options;
     options.threads = threads;
-    fmt::print("{:<28} {:>10} {:>7}  {:>14} {:>7}  {:>14} {:>7}   (cosine metric; seconds)\n", "table", single.name(), "s",
-               pair + " default", "s", pair + " nested", "s");
+    fmt::print("{:<28} {:>10} {:>7}  {:>14} {:>7}  {:>14} {:>7}   (cosine metric; seconds)\n", "table", single.name(),
+               "s", pair + " default", "s", pair + " nested", "s");
     for (const std::string& path : tables) {
       const SampleSet data = load_samples(path, SamplingOptions{});
       const FitResult one = fit_model(single, data, options);

@@ -67,7 +67,8 @@ Metric metric_from(const std::string& name) {
 }
 
 LossKind loss_from(const std::string& name) {
-  for (const auto& [kind, spelling] : {std::pair{LossKind::None, "none"}, {LossKind::Huber, "huber"}, {LossKind::Cauchy, "cauchy"}})
+  for (const auto& [kind, spelling] :
+       {std::pair{LossKind::None, "none"}, {LossKind::Huber, "huber"}, {LossKind::Cauchy, "cauchy"}})
     if (name == spelling) return kind;
   fail("loss: unknown loss '{}' (none, huber, cauchy)", name);
 }
@@ -106,7 +107,8 @@ py::dict score(const py::handle& data, const py::handle& model_arg, const py::ha
   py::object holder;
   const PySamples& samples = samples_of(data, holder);
   const bool from_fit = py::isinstance<FitResult>(model_arg);
-  const Model& model = from_fit ? model_from(py::str(py::cast<const FitResult&>(model_arg).model)) : model_from(model_arg);
+  const Model& model =
+      from_fit ? model_from(py::str(py::cast<const FitResult&>(model_arg).model)) : model_from(model_arg);
   const ModelValues values = values_from(model, from_fit && params.is_none() ? model_arg : params);
   if (samples.set->empty()) fail("{}: no samples left to score (check --max-angle)", input_path_of(holder, samples));
   const std::shared_ptr<const SampleSet> set = samples.set;
@@ -131,11 +133,13 @@ const FitResult& result_named(const PyFitResults& r, const std::string& name) {
 void bind_fit(py::module_& m) {
   py::class_<ParameterEstimate>(m, "ParameterEstimate", "A fitted parameter: value, standard deviation and flags.")
       .def_readonly("name", &ParameterEstimate::name, "The parameter's name.")
-      .def_property_readonly("value", [](const ParameterEstimate& p) { return value_or_tuple(p.value); },
-                             "The value: a float, or an (r, g, b) tuple for colours and per-channel fits.")
-      .def_property_readonly("stddev", [](const ParameterEstimate& p) { return value_or_tuple(p.stddev); },
-                             "Standard deviation(s) from the covariance at the optimum; NaN where not estimated\n"
-                             "(null in the JSON document).")
+      .def_property_readonly(
+          "value", [](const ParameterEstimate& p) { return value_or_tuple(p.value); },
+          "The value: a float, or an (r, g, b) tuple for colours and per-channel fits.")
+      .def_property_readonly(
+          "stddev", [](const ParameterEstimate& p) { return value_or_tuple(p.stddev); },
+          "Standard deviation(s) from the covariance at the optimum; NaN where not estimated\n"
+          "(null in the JSON document).")
       .def_readonly("identifiable", &ParameterEstimate::identifiable, "False: the data do not determine it.")
       .def_readonly("at_bound", &ParameterEstimate::at_bound, "True: the optimum sits on a bound.")
       .def("__repr__", [](const ParameterEstimate& p) {
@@ -147,13 +151,16 @@ void bind_fit(py::module_& m) {
                         "as_dict() gives that entry exactly as `brdffit fit --out` writes it.")
       .def_readonly("model", &FitResult::model, "The model's name.")
       .def_readonly("ok", &FitResult::ok, "True when the fit succeeded.")
-      .def_property_readonly("status", [](const FitResult& r) { return r.ok ? "ok" : "failed"; }, "'ok' or 'failed'.")
-      .def_property_readonly("verdict", [](const FitResult& r) { return verdict_name(r.verdict); },
-                             "'good', 'poor' (clearly worse than a Lambert baseline or leaving most of the data\n"
-                             "unexplained) or 'failed'.")
+      .def_property_readonly(
+          "status", [](const FitResult& r) { return r.ok ? "ok" : "failed"; }, "'ok' or 'failed'.")
+      .def_property_readonly(
+          "verdict", [](const FitResult& r) { return verdict_name(r.verdict); },
+          "'good', 'poor' (clearly worse than a Lambert baseline or leaving most of the data\n"
+          "unexplained) or 'failed'.")
       .def_readonly("warnings", &FitResult::warnings, "One line each: what a user should know about this fit.")
-      .def_property_readonly("error", [](const FitResult& r) { return r.ok ? py::none() : py::object(py::str(r.error)); },
-                             "Why the fit failed, or None.")
+      .def_property_readonly(
+          "error", [](const FitResult& r) { return r.ok ? py::none() : py::object(py::str(r.error)); },
+          "Why the fit failed, or None.")
       .def_property_readonly(
           "parameters",
           [](const FitResult& r) {
@@ -162,9 +169,10 @@ void bind_fit(py::module_& m) {
             return d;
           },
           "{name: ParameterEstimate}, in the model's parameter order.")
-      .def_property_readonly("metrics", [](const FitResult& r) { return metrics_dict(r.metrics); },
-                             "{'cosine', 'log', 'relative', 'l2', 'max', 'typical'}: every error metric at the optimum\n"
-                             "(typical: the median relative error of a sample, see metric.h).")
+      .def_property_readonly(
+          "metrics", [](const FitResult& r) { return metrics_dict(r.metrics); },
+          "{'cosine', 'log', 'relative', 'l2', 'max', 'typical'}: every error metric at the optimum\n"
+          "(typical: the median relative error of a sample, see metric.h).")
       .def_readonly("iterations", &FitResult::iterations, "Trust-region iterations over every stage.")
       .def_readonly("termination", &FitResult::termination, "How the last stage ended (Ceres' message).")
       .def_readonly("seconds", &FitResult::seconds, "Wall time of this model's fit.")
@@ -174,8 +182,9 @@ void bind_fit(py::module_& m) {
           "channel_values",
           [](const FitResult& r) { return r.channel_values.empty() ? py::none() : py::cast(r.channel_values); },
           "With per_channel=True: one full value list per channel (r, g, b); otherwise None.")
-      .def("as_dict", [](const FitResult& r) { return to_python(fit_result_json(r)); },
-           "as_dict() -> dict\n\nThis result as the result document's model entry (NaN written as None).")
+      .def(
+          "as_dict", [](const FitResult& r) { return to_python(fit_result_json(r)); },
+          "as_dict() -> dict\n\nThis result as the result document's model entry (NaN written as None).")
       .def("__repr__", [](const FitResult& r) {
         if (!r.ok) return fmt::format("<brdffit.FitResult {} failed: {}>", r.model, r.error);
         std::string params;
@@ -205,16 +214,22 @@ void bind_fit(py::module_& m) {
       .def_property_readonly(
           "best", [](const PyFitResults& r) { return best_of(r); }, py::return_value_policy::reference_internal,
           "The successful fit with the lowest error in the minimised metric, or None.")
-      .def_property_readonly("metric", [](const PyFitResults& r) { return metric_name(r.options.metric); },
-                             "The metric that was minimised.")
-      .def_property_readonly("samples", [](const PyFitResults& r) { return r.data->size(); }, "Samples fitted.")
-      .def_property_readonly("weighting", [](const PyFitResults& r) { return r.data->weighting; }, "Their weighting.")
+      .def_property_readonly(
+          "metric", [](const PyFitResults& r) { return metric_name(r.options.metric); },
+          "The metric that was minimised.")
+      .def_property_readonly(
+          "samples", [](const PyFitResults& r) { return r.data->size(); }, "Samples fitted.")
+      .def_property_readonly(
+          "weighting", [](const PyFitResults& r) { return r.data->weighting; }, "Their weighting.")
       .def_readonly("input", &PyFitResults::input_path, "The table's path, or the samples' source.")
-      .def("document", [](const PyFitResults& r) { return to_python(r.document()); },
-           "document() -> dict\n\nThe whole result document, as `brdffit fit --out` writes it.")
+      .def(
+          "document", [](const PyFitResults& r) { return to_python(r.document()); },
+          "document() -> dict\n\nThe whole result document, as `brdffit fit --out` writes it.")
       .def(
           "save",
-          [](const PyFitResults& r, const py::handle& path) { write_file_atomic(path_from(path), r.document().dump(2) + "\n"); },
+          [](const PyFitResults& r, const py::handle& path) {
+            write_file_atomic(path_from(path), r.document().dump(2) + "\n");
+          },
           py::arg("path"),
           "save(path): writes the result document (JSON) whole or not at all, for brdffit report,\n"
           "render, compare and export.")
@@ -225,8 +240,8 @@ void bind_fit(py::module_& m) {
       });
 
   m.def("fit", &fit, py::arg("data"), py::arg("models") = "all", py::arg("metric") = "cosine", py::arg("loss") = "none",
-        py::arg("loss_scale") = 0.0, py::arg("per_channel") = false, py::arg("converge") = false, py::arg("threads") = 0,
-        py::arg("seed") = 1, py::arg("on_result") = py::none(),
+        py::arg("loss_scale") = 0.0, py::arg("per_channel") = false, py::arg("converge") = false,
+        py::arg("threads") = 0, py::arg("seed") = 1, py::arg("on_result") = py::none(),
         R"(fit(data, models="all", metric="cosine", loss="none", loss_scale=0.0, per_channel=False,
     converge=False, threads=0, seed=1, on_result=None) -> FitResults
 

@@ -28,7 +28,8 @@ std::string assignment(const std::string& name, const std::vector<double>& numbe
 
 std::vector<double> numbers_of(const py::handle& value) {
   if (py::isinstance<py::str>(value)) throw py::type_error("parameter values are numbers or (r, g, b) sequences");
-  if (py::isinstance<py::sequence>(value) || py::isinstance<py::array>(value)) return py::cast<std::vector<double>>(value);
+  if (py::isinstance<py::sequence>(value) || py::isinstance<py::array>(value))
+    return py::cast<std::vector<double>>(value);
   return {py::cast<double>(value)};
 }
 
@@ -40,7 +41,8 @@ std::string parameter_list(const Model& model) {
 
 std::string param_repr(const ParamSpec& p) {
   return fmt::format("Parameter('{}', {}[{:g}, {:g}], default {:g}: {})", p.name,
-                     p.channels == 3 ? "rgb " : (p.integer ? "int " : ""), p.lower, p.upper, p.default_value, p.meaning);
+                     p.channels == 3 ? "rgb " : (p.integer ? "int " : ""), p.lower, p.upper, p.default_value,
+                     p.meaning);
 }
 
 py::tuple eval_model(const py::handle& model_arg, const py::handle& params, const DoubleArray& light,
@@ -133,8 +135,9 @@ void bind_models(py::module_& m) {
       .def_readonly("upper", &ParamSpec::upper, "Highest allowed value.")
       .def_readonly("default", &ParamSpec::default_value, "Value used when none is given.")
       .def_readonly("meaning", &ParamSpec::meaning, "One line: what the parameter does.")
-      .def_property_readonly("role", [](const ParamSpec& p) { return role_name(p.role); },
-                             "What kind of parameter it is (diffuse_colour, roughness, ...).")
+      .def_property_readonly(
+          "role", [](const ParamSpec& p) { return role_name(p.role); },
+          "What kind of parameter it is (diffuse_colour, roughness, ...).")
       .def_readonly("integer", &ParamSpec::integer, "True when only integer values are allowed.")
       .def("__repr__", &param_repr);
 
@@ -150,8 +153,10 @@ void bind_models(py::module_& m) {
                              "True when the directional albedo stays at most 1 within the bounds.")
       .def_property_readonly("num_values", &Model::num_values,
                              "Length of the flattened value vector (colours take 3 values).")
-      .def("default_values", &Model::default_values, "default_values() -> list[float]\n\nThe flattened default values, in parameter order.")
-      .def("__repr__", [](const Model& model) { return fmt::format("<brdffit.Model {}: {}>", model.name(), model.summary()); });
+      .def("default_values", &Model::default_values,
+           "default_values() -> list[float]\n\nThe flattened default values, in parameter order.")
+      .def("__repr__",
+           [](const Model& model) { return fmt::format("<brdffit.Model {}: {}>", model.name(), model.summary()); });
 
   m.def(
       "models",
@@ -209,8 +214,8 @@ message.)";
   // Every docstring starts with its own Python signature (pybind11's would show C++ types).
   pybind11::options options;
   options.disable_function_signatures();
-  pybind11::register_exception<brdffit::Error>(m, "Error", PyExc_ValueError)
-      .attr("__doc__") = "Bad input or options: the message names the file or argument and the problem, as the CLI's does.";
+  pybind11::register_exception<brdffit::Error>(m, "Error", PyExc_ValueError).attr("__doc__") =
+      "Bad input or options: the message names the file or argument and the problem, as the CLI's does.";
   bp::bind_models(m);
   bp::bind_samples(m);
   bp::bind_fit(m);

@@ -64,7 +64,8 @@ PySamples samples_from_arrays(const DoubleArray& light, const DoubleArray& view,
     if (!s.value.allFinite()) fail("{}: sample {}: the value is not finite", source, i);
     if ((s.value.array() < 0.0).any()) fail("{}: sample {}: negative reflectance", source, i);
     s.weight = weights ? weights[i] : 1.0;
-    if (!std::isfinite(s.weight) || s.weight < 0.0) fail("{}: sample {}: the weight is negative or not finite", source, i);
+    if (!std::isfinite(s.weight) || s.weight < 0.0)
+      fail("{}: sample {}: the weight is negative or not finite", source, i);
   }
   if (n == 0) fail("{}: no samples", source);
   return {set};
@@ -98,7 +99,8 @@ py::dict info_dict(const PyTable& table) {
 }
 
 py::array lookup(const PyTable& table, const DoubleArray& light, const DoubleArray& view) {
-  if (!table.table) fail("{}: a CSV of samples is not a table that can be evaluated at any pair of directions", table.path);
+  if (!table.table)
+    fail("{}: a CSV of samples is not a table that can be evaluated at any pair of directions", table.path);
   const std::vector<Vec3> ls = directions_from(light, "light"), vs = directions_from(view, "view");
   if (ls.size() != vs.size()) fail("light and view: {} and {} directions (give as many of each)", ls.size(), vs.size());
   const MeasuredBrdf& measured = *table.table;
@@ -123,9 +125,11 @@ void bind_samples(py::module_& m) {
           "(N, 3) measured shaded values f·cosθi per channel (what models' shaded values are compared with).")
       .def_property_readonly("weight", sample_field(&Sample::weight, 1),
                              "(N,) relative importance of each sample (e.g. the solid angle of a table bin).")
-      .def_property_readonly("source", [](const PySamples& s) { return s.set->source; }, "Where the samples came from.")
-      .def_property_readonly("weighting", [](const PySamples& s) { return s.set->weighting; },
-                             "How the weights were chosen (uniform, solid-angle, given, ...).")
+      .def_property_readonly(
+          "source", [](const PySamples& s) { return s.set->source; }, "Where the samples came from.")
+      .def_property_readonly(
+          "weighting", [](const PySamples& s) { return s.set->weighting; },
+          "How the weights were chosen (uniform, solid-angle, given, ...).")
       .def("__len__", [](const PySamples& s) { return s.set->size(); })
       .def("__repr__", [](const PySamples& s) {
         return fmt::format("<brdffit.Samples {} samples from {} ({} weights)>", s.set->size(), s.set->source,
@@ -156,8 +160,8 @@ and makes the samples a fit uses exactly as `brdffit fit` does with --max-angle 
 samples with θi or θo above it, degrees), --max-samples (a deterministic random subset; 0:
 all) and --seed. Raises brdffit.Error naming the file and the problem.)");
 
-  m.def("samples", &samples_from_arrays, py::arg("light"), py::arg("view"), py::arg("rgb"), py::arg("weight") = py::none(),
-        py::arg("source") = "arrays",
+  m.def("samples", &samples_from_arrays, py::arg("light"), py::arg("view"), py::arg("rgb"),
+        py::arg("weight") = py::none(), py::arg("source") = "arrays",
         R"(samples(light, view, rgb, weight=None, source="arrays") -> Samples
 
 Samples from arrays: light and view (N, 3) directions in the local frame (normal +z; made

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds brdffit and runs the whole test suite (ctest, then the Python
-# module's pytest suite); then builds and runs
+# Installs what is missing, checks the code's format, builds brdffit and runs the whole test suite
+# (ctest, then the Python module's pytest suite); then builds and runs
 # it once more with AddressSanitizer and UndefinedBehaviorSanitizer (skip with --no-sanitize).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -13,6 +13,13 @@ run_suite() {  # build-dir, extra cmake args...
   cmake --build "$dir" -j "$jobs"
   ctest --test-dir "$dir" --output-on-failure -j "$jobs"
 }
+
+echo "== format: clang-format (.clang-format) and at most 120 columns"
+git ls-files '*.cc' '*.h' | xargs clang-format --dry-run --Werror
+if git ls-files '*.cc' '*.h' | LC_ALL=C.UTF-8 xargs grep -nP '^.{121,}$'; then
+  echo "the lines above are over 120 columns" >&2
+  exit 1
+fi
 
 mkdir -p build
 run_suite build

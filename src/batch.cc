@@ -3,8 +3,8 @@
 
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -83,9 +83,10 @@ class TableList {
     }
     if (error) fail("{}: cannot list the folder: {}", folder.string(), error.message());
     if (found.empty() && is_inside(absolute_normal(folder), skip_))
-      fail("{}: this folder is inside the output folder {} (--out), whose files are the batch's own: put the "
-           "results elsewhere with --out, or the tables in another folder",
-           folder.string(), skip_.string());
+      fail(
+          "{}: this folder is inside the output folder {} (--out), whose files are the batch's own: put the "
+          "results elsewhere with --out, or the tables in another folder",
+          folder.string(), skip_.string());
     if (found.empty()) fail("{}: no tables (.binary, .bsdf, .csv) in this folder", folder.string());
     std::sort(found.begin(), found.end());
     for (const fs::path& table : found) add_table(table);
@@ -172,8 +173,10 @@ MaterialOutcome process_material(const BatchMaterial& material, const BatchOptio
     std::optional<FitDocument> done;
     if (options.resume || options.merge_only) done = completed_document(result_path, material, options);
     if (!done && options.merge_only)
-      fail("{}: no complete result document for these options (its shard did not finish it: run that shard, or the "
-           "batch, again with --resume)", result_path);
+      fail(
+          "{}: no complete result document for these options (its shard did not finish it: run that shard, or the "
+          "batch, again with --resume)",
+          result_path);
     if (done) {
       outcome.status = MaterialStatus::Ok;
       outcome.resumed = true;
@@ -214,9 +217,12 @@ double fitted_error(const MaterialOutcome& outcome, const std::string& model, Me
 
 const char* material_status_name(MaterialStatus status) {
   switch (status) {
-    case MaterialStatus::Ok: return "ok";
-    case MaterialStatus::Partial: return "partial";
-    case MaterialStatus::Failed: break;
+    case MaterialStatus::Ok:
+      return "ok";
+    case MaterialStatus::Partial:
+      return "partial";
+    case MaterialStatus::Failed:
+      break;
   }
   return "failed";
 }
@@ -272,9 +278,10 @@ OutputFolderLock::OutputFolderLock(const std::string& folder, const std::string&
     if (errno != EEXIST) fail("{}: cannot create the lock file: {}", path_, std::strerror(errno));
     const long owner = lock_owner(path_);
     if (process_alive(owner))
-      fail("{}: another batch (pid {}) is writing into this folder; wait for it to finish, or choose another --out "
-           "(if no batch runs, remove {})",
-           folder, owner, path_);
+      fail(
+          "{}: another batch (pid {}) is writing into this folder; wait for it to finish, or choose another --out "
+          "(if no batch runs, remove {})",
+          folder, owner, path_);
     ::unlink(path_.c_str());  // its owner is gone (killed): the folder is free
   }
   fail("{}: cannot take the lock file {}", folder, path_);
@@ -323,8 +330,8 @@ std::vector<MaterialOutcome> run_batch(const std::vector<BatchMaterial>& materia
 
 BatchPlan plan_batch(const BatchOptions& options, size_t materials) {
   BatchPlan plan;
-  plan.jobs = static_cast<int>(std::clamp<size_t>(static_cast<size_t>(std::max(1, options.jobs)), 1,
-                                                  std::max<size_t>(materials, 1)));
+  plan.jobs = static_cast<int>(
+      std::clamp<size_t>(static_cast<size_t>(std::max(1, options.jobs)), 1, std::max<size_t>(materials, 1)));
   // The fitter is parallel itself: the cores are shared among the materials fitted at once.
   plan.threads = options.fit.threads > 0 ? options.fit.threads : std::max(1, thread_count(0) / plan.jobs);
   return plan;

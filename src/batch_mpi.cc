@@ -42,7 +42,9 @@ MaterialOutcome outcome_of(const nlohmann::json& report, const BatchMaterial& ma
   MaterialOutcome o;
   o.material = material;
   const std::string status = report.at("status").get<std::string>();
-  o.status = status == "ok" ? MaterialStatus::Ok : status == "partial" ? MaterialStatus::Partial : MaterialStatus::Failed;
+  o.status = status == "ok"        ? MaterialStatus::Ok
+             : status == "partial" ? MaterialStatus::Partial
+                                   : MaterialStatus::Failed;
   o.resumed = report.at("resumed").get<bool>();
   o.error = report.at("error").get<std::string>();
   o.result_path = report.at("result_path").get<std::string>();

@@ -13,7 +13,8 @@ namespace {
 
 // A whole non-negative number, or nullopt.
 std::optional<long> whole_number(const std::string& text) {
-  if (text.empty() || text.size() > 9 || !std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; }))
+  if (text.empty() || text.size() > 9 ||
+      !std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; }))
     return std::nullopt;
   return std::stol(text);
 }
@@ -22,8 +23,10 @@ long required_number(const EnvironmentLookup& environment, const std::string& na
   const std::optional<std::string> value = environment(name);
   if (!value) {
     if (required)
-      fail("--shard auto: {} is not set (not a Slurm job array task; in a Kubernetes Indexed Job give auto/N, "
-           "elsewhere K/N)", name);
+      fail(
+          "--shard auto: {} is not set (not a Slurm job array task; in a Kubernetes Indexed Job give auto/N, "
+          "elsewhere K/N)",
+          name);
     return fallback;
   }
   const std::optional<long> number = whole_number(*value);
@@ -67,7 +70,8 @@ Shard parse_shard(const std::string& text, const EnvironmentLookup& environment)
       index = *k;
     }
   }
-  if (index < 0 || index >= count) fail("--shard '{}': shard {} does not exist among {} (0 <= K < N)", text, index, count);
+  if (index < 0 || index >= count)
+    fail("--shard '{}': shard {} does not exist among {} (0 <= K < N)", text, index, count);
   return {static_cast<int>(index), static_cast<int>(count)};
 }
 

@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <regex>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/photo.hpp>
 #include <opencv2/videoio.hpp>
+#include <regex>
 
 #include "brdffit/error.h"
 #include "brdffit/image_io.h"
@@ -39,7 +39,8 @@ cv::Mat mean_of_frames(cv::VideoCapture& video, int count, const std::string& so
       fail("{}: ran out of frames after {} (the exposures and --frames ask for more)", source, frames_read);
     if (frame.type() != CV_8UC3) fail("{}: frame {} is not 8-bit colour", source, frames_read + 1);
     if (!sum.empty() && frame.size() != sum.size())
-      fail("{}: frame {} is {}x{} pixels, earlier frames {}x{}", source, frames_read + 1, frame.cols, frame.rows, sum.cols, sum.rows);
+      fail("{}: frame {} is {}x{} pixels, earlier frames {}x{}", source, frames_read + 1, frame.cols, frame.rows,
+           sum.cols, sum.rows);
     ++frames_read;
     if (sum.empty()) sum = cv::Mat::zeros(frame.size(), CV_32FC3);
     cv::accumulate(frame, sum);
@@ -101,7 +102,8 @@ CaptureResult capture(const CaptureOptions& options) {
 
   if (options.exposures.size() <= 1) {
     if (camera && options.exposures.size() == 1) video.set(cv::CAP_PROP_EXPOSURE, options.exposures[0]);
-    result.image = bgr_to_rgb(mean_of_frames(video, options.frames_per_exposure, options.source, result.frames) / 255.0);
+    result.image =
+        bgr_to_rgb(mean_of_frames(video, options.frames_per_exposure, options.source, result.frames) / 255.0);
     srgb_to_linear(result.image);
     return result;
   }

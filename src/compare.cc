@@ -30,8 +30,8 @@ MaterialRanking rank_material(const FitDocument& document, Metric metric) {
     if (a.ok != b.ok) return a.ok;
     return a.ok && a.error < b.error;
   });
-  const int fitted = static_cast<int>(std::count_if(ranking.models.begin(), ranking.models.end(),
-                                                    [](const RankedModel& m) { return m.ok; }));
+  const int fitted = static_cast<int>(
+      std::count_if(ranking.models.begin(), ranking.models.end(), [](const RankedModel& m) { return m.ok; }));
   for (size_t i = 0; i < ranking.models.size(); ++i) {
     RankedModel& m = ranking.models[i];
     if (!m.ok)
@@ -107,9 +107,10 @@ Comparison compare_results(const std::vector<FitDocument>& documents, Metric met
     comparison.materials.push_back(std::move(ranking));
   }
   for (const std::string& model : models) comparison.models.push_back(summarise_model(model, comparison.materials));
-  std::stable_sort(comparison.models.begin(), comparison.models.end(), [](const ModelSummary& a, const ModelSummary& b) {
-    return a.mean_rank != b.mean_rank ? a.mean_rank < b.mean_rank : a.model < b.model;
-  });
+  std::stable_sort(comparison.models.begin(), comparison.models.end(),
+                   [](const ModelSummary& a, const ModelSummary& b) {
+                     return a.mean_rank != b.mean_rank ? a.mean_rank < b.mean_rank : a.model < b.model;
+                   });
   return comparison;
 }
 
@@ -165,9 +166,9 @@ std::string comparison_markdown(const Comparison& c) {
   md += fmt::format("| model | fitted | poor | failed | mean {0} | median {0} | mean rank | best on |\n", metric);
   md += "|---|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const ModelSummary& m : c.models)
-    md += fmt::format("| {} | {} | {} | {} | {} | {} | {:.2f} | {} |\n", escape_markdown(m.model), m.materials - m.failed,
-                      m.poor, m.failed,
-                      number(m.mean_error), number(m.median_error), m.mean_rank, m.wins);
+    md +=
+        fmt::format("| {} | {} | {} | {} | {} | {} | {:.2f} | {} |\n", escape_markdown(m.model), m.materials - m.failed,
+                    m.poor, m.failed, number(m.mean_error), number(m.median_error), m.mean_rank, m.wins);
   md += "\n| material |";
   for (const ModelSummary& m : c.models) md += " " + escape_markdown(m.model) + " |";
   md += "\n|---|";

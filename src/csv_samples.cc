@@ -30,7 +30,8 @@ std::vector<std::string> split_fields(const std::string& line) {
 
 // A whole field as a finite double, independent of the locale; false otherwise.
 bool parse_number(const std::string& field, double& value) {
-  const char* begin = field.data() + (field.size() > 1 && field[0] == '+' && field[1] != '-');  // from_chars takes no '+'
+  const char* begin =
+      field.data() + (field.size() > 1 && field[0] == '+' && field[1] != '-');  // from_chars takes no '+'
   const char* end = field.data() + field.size();
   const auto [stop, error] = std::from_chars(begin, end, value);
   return error == std::errc() && stop == end && std::isfinite(value);
@@ -55,7 +56,8 @@ std::optional<Header> parse_header(const std::vector<std::string>& fields) {
   static const std::vector<std::string> vectors = {"lx", "ly", "lz", "vx", "vy", "vz", "r", "g", "b"};
   for (const auto& [form, columns] : {std::pair{Form::Angles, &angles}, {Form::Vectors, &vectors}}) {
     const bool has_weight = fields.size() == columns->size() + 1 && fields.back() == "weight";
-    if ((fields.size() == columns->size() || has_weight) && std::equal(columns->begin(), columns->end(), fields.begin()))
+    if ((fields.size() == columns->size() || has_weight) &&
+        std::equal(columns->begin(), columns->end(), fields.begin()))
       return Header{form, has_weight};
   }
   return std::nullopt;
@@ -95,9 +97,10 @@ SampleSet read_csv_samples(std::istream& lines, const std::string& name) {
     if (!header) {
       header = parse_header(fields);
       if (!header)
-        fail("{}:{}: unrecognised header '{}' (expected theta_i,phi_i,theta_o,phi_o,r,g,b[,weight] or "
-             "lx,ly,lz,vx,vy,vz,r,g,b[,weight])",
-             name, number, line);
+        fail(
+            "{}:{}: unrecognised header '{}' (expected theta_i,phi_i,theta_o,phi_o,r,g,b[,weight] or "
+            "lx,ly,lz,vx,vy,vz,r,g,b[,weight])",
+            name, number, line);
       if (header->form == Form::Angles && radians_per_unit == 0.0)
         fail("{}:{}: angle columns need a '# unit: degrees' or '# unit: radians' line before the header", name, number);
       continue;
@@ -106,7 +109,8 @@ SampleSet read_csv_samples(std::istream& lines, const std::string& name) {
       fail("{}:{}: {} fields, the header has {}", name, number, fields.size(), header->columns());
     std::vector<double> x(fields.size());
     for (size_t i = 0; i < fields.size(); ++i)
-      if (!parse_number(fields[i], x[i])) fail("{}:{}: field {} '{}' is not a finite number", name, number, i + 1, fields[i]);
+      if (!parse_number(fields[i], x[i]))
+        fail("{}:{}: field {} '{}' is not a finite number", name, number, i + 1, fields[i]);
     Sample s;
     if (header->form == Form::Angles) {
       s.l = from_angles(x[0] * radians_per_unit, x[1] * radians_per_unit);

@@ -8,9 +8,9 @@
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <numeric>
 #include <functional>
 #include <map>
+#include <numeric>
 #include <random>
 #include <set>
 
@@ -46,9 +46,12 @@ bool is_fitted(const ValueSlot& slot, const Channels& channels) {
 
 std::unique_ptr<ceres::LossFunction> make_loss(LossKind kind, double scale) {
   switch (kind) {
-    case LossKind::Huber: return std::make_unique<ceres::HuberLoss>(scale);
-    case LossKind::Cauchy: return std::make_unique<ceres::CauchyLoss>(scale);
-    case LossKind::None: break;
+    case LossKind::Huber:
+      return std::make_unique<ceres::HuberLoss>(scale);
+    case LossKind::Cauchy:
+      return std::make_unique<ceres::CauchyLoss>(scale);
+    case LossKind::None:
+      break;
   }
   return nullptr;
 }
@@ -59,8 +62,8 @@ std::unique_ptr<ceres::LossFunction> make_loss(LossKind kind, double scale) {
 // Σ over samples and fitted channels of the squared (robustified, weighted) residual; the
 // objective every stage minimises and every candidate is judged by. Parallel over chunks
 // when the set is large (the final selection evaluates it on every sample).
-double cost_of(const Model& model, const std::vector<double>& values, const std::vector<Sample>& samples,
-               Metric metric, const Channels& channels, const ceres::LossFunction* loss, int threads = 1) {
+double cost_of(const Model& model, const std::vector<double>& values, const std::vector<Sample>& samples, Metric metric,
+               const Channels& channels, const ceres::LossFunction* loss, int threads = 1) {
   const size_t chunks = samples.size() >= 50000 ? 64 : 1;
   const size_t per_chunk = (samples.size() + chunks - 1) / chunks;
   std::vector<double> partial(chunks, 0.0);
@@ -86,8 +89,8 @@ double cost_of(const Model& model, const std::vector<double>& values, const std:
 
 // Median absolute residual (unweighted by the loss) on the fitted channels, for the robust
 // loss's automatic scale.
-double median_abs_residual(const Model& model, const std::vector<double>& values,
-                           const std::vector<Sample>& samples, Metric metric, const Channels& channels) {
+double median_abs_residual(const Model& model, const std::vector<double>& values, const std::vector<Sample>& samples,
+                           Metric metric, const Channels& channels) {
   std::vector<double> abs_residuals;
   for (const Sample& s : samples) {
     const Rgb<double> shade = model.shade(values.data(), s.l, s.v);
@@ -208,8 +211,8 @@ void solve_linear(const Model& model, std::vector<double>& values, const std::ve
 // One shape parameter's value at coordinate t ∈ (0, 1) of its range, log-spaced for
 // exponents and roughness.
 double at_fraction(const ParamSpec& p, double t) {
-  const double value = p.spacing == Spacing::Log ? p.lower * std::pow(p.upper / p.lower, t)
-                                                 : p.lower + t * (p.upper - p.lower);
+  const double value =
+      p.spacing == Spacing::Log ? p.lower * std::pow(p.upper / p.lower, t) : p.lower + t * (p.upper - p.lower);
   return p.integer ? std::round(value) : value;
 }
 
@@ -345,7 +348,7 @@ struct Refinement {
   int iterations = 0;
   bool usable = false;
   std::string termination;
-  Eigen::MatrixXd covariance;  // over the free values, unscaled (JᵀJ)⁻¹; empty if not computed
+  Eigen::MatrixXd covariance;      // over the free values, unscaled (JᵀJ)⁻¹; empty if not computed
   std::vector<bool> identifiable;  // per free value
   std::vector<int> free_index;
 };
@@ -569,9 +572,8 @@ struct ChannelFit {
   size_t residuals = 0;
 };
 
-ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOptions& options,
-                        const Channels& channels, const std::vector<double>& initial,
-                        const std::vector<std::vector<double>>& nested_starts) {
+ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOptions& options, const Channels& channels,
+                        const std::vector<double>& initial, const std::vector<std::vector<double>>& nested_starts) {
   ChannelFit fit;
   const int threads = thread_count(options.threads);
   const std::vector<Sample> small = subsample(data.samples, options.subsample, options.seed);
@@ -682,12 +684,13 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
       if (!from || c.cost < from->cost) from = &c;
     const std::vector<double> start = options.single_start ? initial : from ? from->values : best.values;
     polish = polish && from && from->values == best.values;
-    Refinement r = on_all.run(start, polish ? std::min(options.polish_iterations, options.max_iterations)
-                                            : options.max_iterations, 1e-6);
+    Refinement r = on_all.run(
+        start, polish ? std::min(options.polish_iterations, options.max_iterations) : options.max_iterations, 1e-6);
     fit.iterations += r.iterations;
     if (polish && r.usable && r.iterations >= options.polish_iterations)
-      r.termination = fmt::format("polished: {} steps on all samples after converging on an importance subset of {} draws",
-                                  r.iterations, largest_draws);
+      r.termination =
+          fmt::format("polished: {} steps on all samples after converging on an importance subset of {} draws",
+                      r.iterations, largest_draws);
     keep(r);
     if (!r.usable && candidates.empty()) best = std::move(r);  // reported as the failure it is
   } else {
@@ -724,8 +727,7 @@ bool at_bound(const ParamSpec& p, double value) {
 
 // Fills result.parameters from one or three channel fits. stddev = √(σ² (JᵀJ)⁻¹), with
 // σ² = 2·cost/(residuals − free values) the residual variance (Ceres' cost is ½Σr²).
-void report_parameters(const Model& model, const std::vector<ChannelFit>& fits, bool per_channel,
-                       FitResult& result) {
+void report_parameters(const Model& model, const std::vector<ChannelFit>& fits, bool per_channel, FitResult& result) {
   const std::vector<ValueSlot> slots = value_slots(model);
   // stddev per flattened value per fit (NaN unless estimated).
   std::vector<std::vector<double>> stddev(fits.size(), std::vector<double>(slots.size(), NAN));
@@ -737,8 +739,9 @@ void report_parameters(const Model& model, const std::vector<ChannelFit>& fits, 
     // uncertainty (stddevs stay NaN) however well the values fit.
     const double dof = static_cast<double>(fits[f].residuals) - static_cast<double>(r.free_index.size());
     if (dof <= 0.0 && !r.free_index.empty())
-      unknown_uncertainty = fmt::format("uncertainties unknown: {} residuals for {} free values leave no degrees of freedom",
-                                        fits[f].residuals, r.free_index.size());
+      unknown_uncertainty =
+          fmt::format("uncertainties unknown: {} residuals for {} free values leave no degrees of freedom",
+                      fits[f].residuals, r.free_index.size());
     const double variance = dof > 0.0 ? 2.0 * r.cost / dof : NAN;
     for (size_t k = 0; k < r.free_index.size(); ++k) {
       const int i = r.free_index[k];
@@ -767,16 +770,20 @@ void report_parameters(const Model& model, const std::vector<ChannelFit>& fits, 
     }
     result.parameters.push_back(estimate);
     offset += p.channels;
-  }  if (!unknown_uncertainty.empty()) result.warnings.push_back(unknown_uncertainty);
+  }
+  if (!unknown_uncertainty.empty()) result.warnings.push_back(unknown_uncertainty);
 }
 
 }  // namespace
 
 const char* verdict_name(Verdict verdict) {
   switch (verdict) {
-    case Verdict::Good: return "good";
-    case Verdict::Poor: return "poor";
-    case Verdict::Failed: break;
+    case Verdict::Good:
+      return "good";
+    case Verdict::Poor:
+      return "poor";
+    case Verdict::Failed:
+      break;
   }
   return "failed";
 }
@@ -802,7 +809,8 @@ FitResult fit_one(const Model& model, const SampleSet& data, const FitOptions& o
   result.model = model.name();
   result.samples = data.size();
   if (!options.initial_values.empty() && static_cast<int>(options.initial_values.size()) != model.num_values())
-    fail("{}: {} initial values given, the model has {}", model.name(), options.initial_values.size(), model.num_values());
+    fail("{}: {} initial values given, the model has {}", model.name(), options.initial_values.size(),
+         model.num_values());
   const std::vector<double> initial = options.initial_values.empty() ? model.default_values() : options.initial_values;
   auto nested_for = [&](int channel) {
     std::vector<std::vector<double>> starts;
@@ -852,10 +860,12 @@ FitResult fit_one(const Model& model, const SampleSet& data, const FitOptions& o
   report_parameters(model, fits, options.per_channel, result);
   result.metrics = evaluate_metrics(model, result.values, data, result.channel_values);
 
-  const bool finite = std::all_of(result.values.begin(), result.values.end(), [](double v) { return std::isfinite(v); }) &&
-                      std::isfinite(result.metrics.get(options.metric));
+  const bool finite =
+      std::all_of(result.values.begin(), result.values.end(), [](double v) { return std::isfinite(v); }) &&
+      std::isfinite(result.metrics.get(options.metric));
   result.ok = failure.empty() && finite;
-  if (!result.ok) result.error = !failure.empty() ? "the fit diverged (" + failure + ")" : "the fit produced non-finite values";
+  if (!result.ok)
+    result.error = !failure.empty() ? "the fit diverged (" + failure + ")" : "the fit produced non-finite values";
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return result;
 }
@@ -906,40 +916,44 @@ void judge(const Model& model, const FitResult* baseline, double zero_error, Met
     const double base = baseline->metrics.get(metric);
     if (error > kPoorRatio * base) {
       r.verdict = Verdict::Poor;
-      r.warnings.push_back(fmt::format("poor fit: its {} error {:.4g} is {:.2f}x that of Lambert ({:.4g}) on the same samples",
-                                       metric_name(metric), error, error / std::max(base, 1e-300), base));
+      r.warnings.push_back(
+          fmt::format("poor fit: its {} error {:.4g} is {:.2f}x that of Lambert ({:.4g}) on the same samples",
+                      metric_name(metric), error, error / std::max(base, 1e-300), base));
     }
   }
   if (zero_error > 0.0 && error > kPoorUnexplained * zero_error) {
     r.verdict = Verdict::Poor;
-    r.warnings.push_back(fmt::format("poor fit: its {} error {:.4g} is {:.0f}% of the data's own scale ({:.4g}, the "
-                                     "error of predicting zero): it misses what dominates the data",
-                                     metric_name(metric), error, 100.0 * error / zero_error, zero_error));
+    r.warnings.push_back(
+        fmt::format("poor fit: its {} error {:.4g} is {:.0f}% of the data's own scale ({:.4g}, the "
+                    "error of predicting zero): it misses what dominates the data",
+                    metric_name(metric), error, 100.0 * error / zero_error, zero_error));
   }
   if (r.metrics.typical > kPoorTypical) {
     r.verdict = Verdict::Poor;
-    r.warnings.push_back(fmt::format("poor fit: a typical sample is off by {:.0f}% of its own value: it misses the "
-                                     "body of the data",
-                                     100.0 * r.metrics.typical));
+    r.warnings.push_back(
+        fmt::format("poor fit: a typical sample is off by {:.0f}% of its own value: it misses the "
+                    "body of the data",
+                    100.0 * r.metrics.typical));
   }
   for (const ParameterEstimate& p : r.parameters) {
     const ParamSpec* spec = model.find_parameter(p.name);
     const bool clamped = spec && spec->linear && std::all_of(p.value.begin(), p.value.end(), [&](double v) {
-      return at_upper_bound(*spec, v);
-    });
+                           return at_upper_bound(*spec, v);
+                         });
     if (clamped && zero_error > 0.0 && error > kPoorClampedUnexplained * zero_error) {
       r.verdict = Verdict::Poor;
-      r.warnings.push_back(fmt::format("poor fit: {} is at its upper bound {:.4g} in every channel and the fit leaves "
-                                       "{:.0f}% of the data's scale: the data are brighter than this model can be",
-                                       p.name, spec->upper, 100.0 * error / zero_error));
+      r.warnings.push_back(
+          fmt::format("poor fit: {} is at its upper bound {:.4g} in every channel and the fit leaves "
+                      "{:.0f}% of the data's scale: the data are brighter than this model can be",
+                      p.name, spec->upper, 100.0 * error / zero_error));
     }
     if (p.at_bound && spec) {
-      const bool upper = std::any_of(p.value.begin(), p.value.end(),
-                                     [&](double v) { return at_upper_bound(*spec, v); });
-      r.warnings.push_back(fmt::format("{} = {} sits at its {} bound {:.4g}: the data would push it further, "
-                                       "its uncertainty is only indicative",
-                                       p.name, format_value(p.value), upper ? "upper" : "lower",
-                                       upper ? spec->upper : spec->lower));
+      const bool upper =
+          std::any_of(p.value.begin(), p.value.end(), [&](double v) { return at_upper_bound(*spec, v); });
+      r.warnings.push_back(
+          fmt::format("{} = {} sits at its {} bound {:.4g}: the data would push it further, "
+                      "its uncertainty is only indicative",
+                      p.name, format_value(p.value), upper ? "upper" : "lower", upper ? spec->upper : spec->lower));
     }
     if (spec && spec->trades_off_with && (p.at_bound || !p.identifiable)) {
       const ParamSpec* other = model.find_parameter(spec->trades_off_with);
@@ -950,15 +964,17 @@ void judge(const Model& model, const FitResult* baseline, double zero_error, Met
         for (size_t i = 0; i < std::max(partner->value.size(), p.value.size()); ++i)
           product.push_back(partner->value[std::min(i, partner->value.size() - 1)] *
                             p.value[std::min(i, p.value.size() - 1)]);
-        r.warnings.push_back(fmt::format("{}·{} = {} is what the data determine (the lobe's reflectance at normal "
-                                         "incidence); {} was left where the least-squares optimum put it",
-                                         other->name, p.name, format_value(product), p.name));
+        r.warnings.push_back(
+            fmt::format("{}·{} = {} is what the data determine (the lobe's reflectance at normal "
+                        "incidence); {} was left where the least-squares optimum put it",
+                        other->name, p.name, format_value(product), p.name));
       }
     }
     if (!p.identifiable)
-      r.warnings.push_back(fmt::format("{} is not identifiable: the data do not determine it (it trades off with "
-                                       "other parameters); its value is one of many equally good ones",
-                                       p.name));
+      r.warnings.push_back(
+          fmt::format("{} is not identifiable: the data do not determine it (it trades off with "
+                      "other parameters); its value is one of many equally good ones",
+                      p.name));
   }
 }
 

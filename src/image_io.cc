@@ -90,7 +90,8 @@ cv::Mat read_image(const std::string& path, const Decoding& decoding) {
   const OIIO::ImageSpec& spec = in->spec();
   const int channels = spec.nchannels;
   // Checked on the header, before the pixels are allocated (4 bytes per channel and pixel).
-  const uint64_t pixels = static_cast<uint64_t>(std::max(spec.width, 0)) * static_cast<uint64_t>(std::max(spec.height, 0));
+  const uint64_t pixels =
+      static_cast<uint64_t>(std::max(spec.width, 0)) * static_cast<uint64_t>(std::max(spec.height, 0));
   if (pixels > max_image_pixels)
     fail("{}: {}x{} pixels, more than the limit of {} pixels (raise it with --max-pixels)", path, spec.width,
          spec.height, max_image_pixels.load());
@@ -137,7 +138,7 @@ void write_image(const std::string& path, const cv::Mat& rgb, Encoding encoding)
   if (encoding == Encoding::Srgb8) linear_to_srgb(pixels);
   OIIO::ImageBuf buf = wrap(pixels);
   buf.specmod().attribute("oiio:ColorSpace", encoding == Encoding::Srgb8 ? "sRGB" : "Linear");
-  const OIIO::TypeDesc stored = encoding == Encoding::Srgb8    ? OIIO::TypeDesc::UINT8
+  const OIIO::TypeDesc stored = encoding == Encoding::Srgb8      ? OIIO::TypeDesc::UINT8
                                 : encoding == Encoding::Linear16 ? OIIO::TypeDesc::UINT16
                                                                  : OIIO::TypeDesc::FLOAT;
 

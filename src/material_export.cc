@@ -28,7 +28,8 @@ double solve_metallic(double a, double f) {
   const double qa = kDielectricF0 * kDiffuseThrough, qb = -(a + kDiffuseThrough * f), qc = a;
   const double discriminant = qb * qb - 4.0 * qa * qc;
   if (discriminant < 0.0) return 0.0;  // f0 darker than any dielectric's: the closest is m = 0
-  const double smaller = (-qb - std::sqrt(discriminant)) / (2.0 * qa), larger = (-qb + std::sqrt(discriminant)) / (2.0 * qa);
+  const double smaller = (-qb - std::sqrt(discriminant)) / (2.0 * qa),
+               larger = (-qb + std::sqrt(discriminant)) / (2.0 * qa);
   const double t = larger <= 1.0 + 1e-12 ? larger : smaller;
   return std::clamp(1.0 - t, 0.0, 1.0);
 }
@@ -129,7 +130,8 @@ std::vector<double> export_values(const Model& model, const FitResult& fit, std:
     int offset = 0;
     for (const ParamSpec& p : model.parameters()) {
       if (p.channels == 1)
-        values[offset] = (fit.channel_values[0][offset] + fit.channel_values[1][offset] + fit.channel_values[2][offset]) / 3;
+        values[offset] =
+            (fit.channel_values[0][offset] + fit.channel_values[1][offset] + fit.channel_values[2][offset]) / 3;
       offset += p.channels;
     }
     warnings.push_back("a per-channel fit: its shape parameters are written as the mean of the three channels'");
@@ -145,9 +147,12 @@ std::string xml_text(const std::string& text) {
   for (size_t i = 0; i < text.size();) {
     const unsigned char c = static_cast<unsigned char>(text[i]);
     if (c < 0x80) {
-      if (c < 0x20 && c != '\t' && c != '\n') hex(c);
-      else if (c == 0x7F) hex(c);
-      else out += escape_markup(std::string(1, static_cast<char>(c)));
+      if (c < 0x20 && c != '\t' && c != '\n')
+        hex(c);
+      else if (c == 0x7F)
+        hex(c);
+      else
+        out += escape_markup(std::string(1, static_cast<char>(c)));
       ++i;
       continue;
     }
@@ -222,7 +227,8 @@ SphereMesh sphere_mesh(int rings = 16, int segments = 32) {
   for (int s = 0; s < segments; ++s) {
     mesh.indices.insert(mesh.indices.end(), {0, ring_vertex(1, s), ring_vertex(1, s + 1)});
     for (int r = 1; r + 1 < rings; ++r) {
-      const uint16_t a = ring_vertex(r, s), b = ring_vertex(r + 1, s), c = ring_vertex(r + 1, s + 1), d = ring_vertex(r, s + 1);
+      const uint16_t a = ring_vertex(r, s), b = ring_vertex(r + 1, s), c = ring_vertex(r + 1, s + 1),
+                     d = ring_vertex(r, s + 1);
       mesh.indices.insert(mesh.indices.end(), {a, b, c, a, c, d});
     }
     mesh.indices.insert(mesh.indices.end(), {south, ring_vertex(rings - 1, s + 1), ring_vertex(rings - 1, s)});
@@ -250,9 +256,12 @@ MetallicRoughness metallic_roughness(const Rgb<double>& albedo, const Rgb<double
 
 const char* material_format_name(MaterialFormat format) {
   switch (format) {
-    case MaterialFormat::Gltf: return "gltf";
-    case MaterialFormat::OpenPbr: return "openpbr";
-    case MaterialFormat::Mitsuba: return "mitsuba";
+    case MaterialFormat::Gltf:
+      return "gltf";
+    case MaterialFormat::OpenPbr:
+      return "openpbr";
+    case MaterialFormat::Mitsuba:
+      return "mitsuba";
   }
   return "?";
 }
@@ -270,14 +279,18 @@ MaterialFormat material_format(const std::string& name, const std::string& path)
 
 std::vector<std::string> native_models(MaterialFormat format) {
   switch (format) {
-    case MaterialFormat::Gltf: return {"gltf", "gltf-specular"};
-    case MaterialFormat::OpenPbr: return {"openpbr"};
-    case MaterialFormat::Mitsuba: return {"principled"};
+    case MaterialFormat::Gltf:
+      return {"gltf", "gltf-specular"};
+    case MaterialFormat::OpenPbr:
+      return {"openpbr"};
+    case MaterialFormat::Mitsuba:
+      return {"principled"};
   }
   return {};
 }
 
-Material convert_material(const std::string& source_model, const std::vector<double>& values, const std::string& model) {
+Material convert_material(const std::string& source_model, const std::vector<double>& values,
+                          const std::string& model) {
   const Model* target = find_model(model);
   if (!target) fail("unknown model '{}'", model);
   return {"", model, values_from_core(*target, core_of(source_model, values))};
@@ -290,9 +303,10 @@ MaterialExport export_material(const FitDocument& document, const ExportRequest&
     for (const std::string& model : natives)
       if (!fit) fit = find_result(document.results, model);
     if (!fit)
-      fail("{}: has no {} fit; fit with --models {} to export it unchanged, or convert another fit with --model "
-           "(ggx, gltf, gltf-specular, openpbr, principled)",
-           document.path, natives.front(), natives.front());
+      fail(
+          "{}: has no {} fit; fit with --models {} to export it unchanged, or convert another fit with --model "
+          "(ggx, gltf, gltf-specular, openpbr, principled)",
+          document.path, natives.front(), natives.front());
   } else {
     fit = find_result(document.results, request.model);
     if (!fit) fail("{}: has no {} fit", document.path, request.model);
@@ -316,7 +330,8 @@ MaterialExport export_material(const FitDocument& document, const ExportRequest&
   out.fit_error = fit->metrics.get(metric);
 
   out.converted = std::find(natives.begin(), natives.end(), fit->model) == natives.end();
-  out.material = out.converted ? convert_material(fit->model, values, natives.front()) : Material{"", fit->model, values};
+  out.material =
+      out.converted ? convert_material(fit->model, values, natives.front()) : Material{"", fit->model, values};
   out.material.name = material_name(document);
   if (out.converted) {
     try {
@@ -324,30 +339,34 @@ MaterialExport export_material(const FitDocument& document, const ExportRequest&
       out.converted_error = evaluate_metrics(*find_model(out.material.model), out.material.values, data).get(metric);
       out.source_error_on_data = evaluate_metrics(source, fit->values, data, fit->channel_values).get(metric);
     } catch (const Error& e) {
-      out.warnings.push_back(fmt::format("the converted material could not be scored on the original data: {}", e.what()));
+      out.warnings.push_back(
+          fmt::format("the converted material could not be scored on the original data: {}", e.what()));
     }
   }
 
   const std::string conversion =
       out.converted ? fmt::format("converted from the {} fit through the metallic-roughness core", fit->model)
                     : fmt::format("the {} fit, unchanged", fit->model);
-  nlohmann::json provenance = {{"result", document.path},
-                               {"input", document.input_path},
-                               {"model", out.material.model},
-                               {"source_model", fit->model},
-                               {"converted", out.converted},
-                               {"verdict", verdict_name(fit->verdict)},
-                               {"metric", metric_name},
-                               {"metrics", fit_result_json(*fit)["metrics"]}};
+  nlohmann::json provenance = {{"result", document.path},     {"input", document.input_path},
+                               {"model", out.material.model}, {"source_model", fit->model},
+                               {"converted", out.converted},  {"verdict", verdict_name(fit->verdict)},
+                               {"metric", metric_name},       {"metrics", fit_result_json(*fit)["metrics"]}};
   if (out.converted) provenance["converted_error_on_input"] = out.converted_error;
   const std::string comment = fmt::format(
-      "brdffit {}: fitted to {}: {} ({} error {:.4g}{}).", BRDFFIT_VERSION, document.input_path, conversion, metric_name,
-      out.fit_error,
-      out.converted ? fmt::format("; this converted material's error on the same data {:.4g}", out.converted_error) : "");
+      "brdffit {}: fitted to {}: {} ({} error {:.4g}{}).", BRDFFIT_VERSION, document.input_path, conversion,
+      metric_name, out.fit_error,
+      out.converted ? fmt::format("; this converted material's error on the same data {:.4g}", out.converted_error)
+                    : "");
   switch (request.format) {
-    case MaterialFormat::Gltf: out.text = gltf_document(out.material, provenance); break;
-    case MaterialFormat::OpenPbr: out.text = materialx_document(out.material, comment); break;
-    case MaterialFormat::Mitsuba: out.text = mitsuba_document(out.material, comment); break;
+    case MaterialFormat::Gltf:
+      out.text = gltf_document(out.material, provenance);
+      break;
+    case MaterialFormat::OpenPbr:
+      out.text = materialx_document(out.material, comment);
+      break;
+    case MaterialFormat::Mitsuba:
+      out.text = mitsuba_document(out.material, comment);
+      break;
   }
   return out;
 }
@@ -366,11 +385,10 @@ std::string gltf_document(const Material& material, const nlohmann::json& proven
                                   {"extras", {{"brdffit", provenance}}}};
   nlohmann::json extensions_used = nlohmann::json::array();
   if (material.model == "gltf-specular") {
-    gltf_material["extensions"] = {
-        {"KHR_materials_ior", {{"ior", value_at(model, v, "ior")}}},
-        {"KHR_materials_specular",
-         {{"specularFactor", value_at(model, v, "specular")},
-          {"specularColorFactor", number_array(colour_at(model, v, "specularColor"))}}}};
+    gltf_material["extensions"] = {{"KHR_materials_ior", {{"ior", value_at(model, v, "ior")}}},
+                                   {"KHR_materials_specular",
+                                    {{"specularFactor", value_at(model, v, "specular")},
+                                     {"specularColorFactor", number_array(colour_at(model, v, "specularColor"))}}}};
     extensions_used = {"KHR_materials_ior", "KHR_materials_specular"};
   }
 
@@ -391,8 +409,12 @@ std::string gltf_document(const Material& material, const nlohmann::json& proven
        {{{"name", "sphere"},
          {"primitives", {{{"attributes", {{"POSITION", 0}, {"NORMAL", 1}}}, {"indices", 2}, {"material", 0}}}}}}},
       {"accessors",
-       {{{"bufferView", 0}, {"componentType", 5126}, {"count", vertices}, {"type", "VEC3"},
-         {"min", {-1.0, -1.0, -1.0}}, {"max", {1.0, 1.0, 1.0}}},
+       {{{"bufferView", 0},
+         {"componentType", 5126},
+         {"count", vertices},
+         {"type", "VEC3"},
+         {"min", {-1.0, -1.0, -1.0}},
+         {"max", {1.0, 1.0, 1.0}}},
         {{"bufferView", 1}, {"componentType", 5126}, {"count", vertices}, {"type", "VEC3"}},
         {{"bufferView", 2}, {"componentType", 5123}, {"count", mesh.indices.size()}, {"type", "SCALAR"}}}},
       {"bufferViews",
@@ -420,7 +442,8 @@ std::string materialx_document(const Material& material, const std::string& comm
   const std::string name = xml_name(material.name);
   std::string xml = "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n";
   xml += "<!-- " + xml_comment_text(comment) +
-         "\n     base_weight, specular_weight and specular_roughness_anisotropy: as brdffit's openpbr model holds them. -->\n";
+         "\n     base_weight, specular_weight and specular_roughness_anisotropy: as brdffit's openpbr model holds "
+         "them. -->\n";
   xml += "<materialx version=\"1.39\" colorspace=\"lin_rec709\">\n";
   xml += fmt::format("  <open_pbr_surface name=\"{}_shader\" type=\"surfaceshader\">\n", name);
   xml += "    <input name=\"base_weight\" type=\"float\" value=\"1\" />\n";
@@ -428,8 +451,8 @@ std::string materialx_document(const Material& material, const std::string& comm
   for (const ParamSpec& p : model.parameters()) {
     const std::vector<double>& v = material.values;
     if (p.channels == 3)
-      xml += fmt::format("    <input name=\"{}\" type=\"color3\" value=\"{:.6f}, {:.6f}, {:.6f}\" />\n", p.name, v[offset],
-                         v[offset + 1], v[offset + 2]);
+      xml += fmt::format("    <input name=\"{}\" type=\"color3\" value=\"{:.6f}, {:.6f}, {:.6f}\" />\n", p.name,
+                         v[offset], v[offset + 1], v[offset + 2]);
     else
       xml += fmt::format("    <input name=\"{}\" type=\"float\" value=\"{:.6f}\" />\n", p.name, v[offset]);
     offset += p.channels;
@@ -444,23 +467,26 @@ std::string materialx_document(const Material& material, const std::string& comm
 }
 
 std::string mitsuba_document(const Material& material, const std::string& comment) {
-  if (material.model != "principled") fail("Mitsuba's principled BSDF holds a principled material, not {}", material.model);
+  if (material.model != "principled")
+    fail("Mitsuba's principled BSDF holds a principled material, not {}", material.model);
   const Model& model = *find_model(material.model);
   const std::vector<double>& v = material.values;
   const std::string id = xml_name(material.name);
   std::string xml = "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n";
-  xml += "<!-- " + xml_comment_text(comment) +
-         "\n     Burley 2012's subsurface is Mitsuba's flatness; anisotropic 0 and sheen_tint 0.5 as brdffit holds them."
-         "\n     Include this file in a scene and refer to the material as <ref id=\"" +
-         id + "\"/>. -->\n";
+  xml +=
+      "<!-- " + xml_comment_text(comment) +
+      "\n     Burley 2012's subsurface is Mitsuba's flatness; anisotropic 0 and sheen_tint 0.5 as brdffit holds them."
+      "\n     Include this file in a scene and refer to the material as <ref id=\"" +
+      id + "\"/>. -->\n";
   xml += "<scene version=\"3.0.0\">\n";
   xml += fmt::format("    <bsdf type=\"principled\" id=\"{}\">\n", id);
   const Rgb<double> base = colour_at(model, v, "baseColor");
-  xml += fmt::format("        <rgb name=\"base_color\" value=\"{:.6f}, {:.6f}, {:.6f}\"/>\n", base[0], base[1], base[2]);
+  xml +=
+      fmt::format("        <rgb name=\"base_color\" value=\"{:.6f}, {:.6f}, {:.6f}\"/>\n", base[0], base[1], base[2]);
   const std::pair<const char*, const char*> floats[] = {
-      {"metallic", "metallic"},       {"roughness", "roughness"},   {"specular", "specular"},
-      {"spec_tint", "specularTint"},  {"flatness", "subsurface"},   {"sheen", "sheen"},
-      {"clearcoat", "clearcoat"},     {"clearcoat_gloss", "clearcoatGloss"}};
+      {"metallic", "metallic"},      {"roughness", "roughness"},           {"specular", "specular"},
+      {"spec_tint", "specularTint"}, {"flatness", "subsurface"},           {"sheen", "sheen"},
+      {"clearcoat", "clearcoat"},    {"clearcoat_gloss", "clearcoatGloss"}};
   for (const auto& [mitsuba, ours] : floats)
     xml += fmt::format("        <float name=\"{}\" value=\"{:.6f}\"/>\n", mitsuba, value_at(model, v, ours));
   xml += "        <float name=\"sheen_tint\" value=\"0.5\"/>\n";

@@ -36,16 +36,23 @@ std::string xml_unescape(const std::string& text, const std::string& path) {
     const size_t end = text.find(';', i);
     if (end == std::string::npos) fail("{}: malformed XML: '&' without ';'", path);
     const std::string entity = text.substr(i + 1, end - i - 1);
-    if (entity == "amp") out += '&';
-    else if (entity == "lt") out += '<';
-    else if (entity == "gt") out += '>';
-    else if (entity == "quot") out += '"';
-    else if (entity == "apos") out += '\'';
+    if (entity == "amp")
+      out += '&';
+    else if (entity == "lt")
+      out += '<';
+    else if (entity == "gt")
+      out += '>';
+    else if (entity == "quot")
+      out += '"';
+    else if (entity == "apos")
+      out += '\'';
     else if (entity.size() > 1 && entity[0] == '#') {
       const bool hex = entity[1] == 'x' || entity[1] == 'X';
       const long code = std::strtol(entity.c_str() + (hex ? 2 : 1), nullptr, hex ? 16 : 10);
-      if (code > 0 && code < 0x80) out += static_cast<char>(code);
-      else out += '?';  // names and numbers here are ASCII
+      if (code > 0 && code < 0x80)
+        out += static_cast<char>(code);
+      else
+        out += '?';  // names and numbers here are ASCII
     } else {
       fail("{}: malformed XML: unknown entity &{};", path, entity);
     }
@@ -128,7 +135,8 @@ std::vector<double> parse_numbers(const std::string& text, const std::string& wh
   while (in >> token) {
     char* end = nullptr;
     const double x = std::strtod(token.c_str(), &end);
-    if (end == token.c_str() || *end != '\0' || !std::isfinite(x)) fail("{}: {}: '{}' is not a number", path, what, text);
+    if (end == token.c_str() || *end != '\0' || !std::isfinite(x))
+      fail("{}: {}: '{}' is not a number", path, what, text);
     values.push_back(x);
   }
   if (values.size() != 1 && values.size() != 3) fail("{}: {}: '{}' is not one number or three", path, what, text);
@@ -152,15 +160,18 @@ void set_parameter(const Model& model, Material& material, const std::string& pa
   }
 }
 
-std::vector<double> json_numbers(const nlohmann::json& j, size_t count, const std::string& what, const std::string& path) {
+std::vector<double> json_numbers(const nlohmann::json& j, size_t count, const std::string& what,
+                                 const std::string& path) {
   std::vector<double> values;
-  if (j.is_number()) values.push_back(j.get<double>());
+  if (j.is_number())
+    values.push_back(j.get<double>());
   else if (j.is_array())
     for (const nlohmann::json& x : j) {
       if (!x.is_number()) fail("{}: {} holds a non-number", path, what);
       values.push_back(x.get<double>());
     }
-  else fail("{}: {} is not a number or an array of numbers", path, what);
+  else
+    fail("{}: {} is not a number or an array of numbers", path, what);
   if (values.size() < count) fail("{}: {} has {} values, expected {}", path, what, values.size(), count);
   values.resize(count);
   return values;
@@ -191,16 +202,16 @@ std::vector<Material> read_gltf(const std::string& path, std::vector<std::string
                                where + " baseColorFactor", path),
                   path, warnings);
     set_parameter(model, material, "metallic",
-                  json_numbers(pbr.value("metallicFactor", nlohmann::json(1.0)), 1, where + " metallicFactor", path), path,
-                  warnings);
+                  json_numbers(pbr.value("metallicFactor", nlohmann::json(1.0)), 1, where + " metallicFactor", path),
+                  path, warnings);
     set_parameter(model, material, "roughness",
                   json_numbers(pbr.value("roughnessFactor", nlohmann::json(1.0)), 1, where + " roughnessFactor", path),
                   path, warnings);
     if (has_specular) {
       const nlohmann::json ior = extensions.value("KHR_materials_ior", nlohmann::json::object());
       const nlohmann::json spec = extensions.value("KHR_materials_specular", nlohmann::json::object());
-      set_parameter(model, material, "ior", json_numbers(ior.value("ior", nlohmann::json(1.5)), 1, where + " ior", path),
-                    path, warnings);
+      set_parameter(model, material, "ior",
+                    json_numbers(ior.value("ior", nlohmann::json(1.5)), 1, where + " ior", path), path, warnings);
       set_parameter(model, material, "specular",
                     json_numbers(spec.value("specularFactor", nlohmann::json(1.0)), 1, where + " specularFactor", path),
                     path, warnings);
@@ -244,13 +255,17 @@ std::vector<Material> read_materialx(const std::string& path, std::vector<std::s
       if (elements[k].parent != static_cast<int>(i) || elements[k].tag != "input") continue;
       const std::string name = attribute(elements[k], "name");
       if (!attribute(elements[k], "nodename").empty() || !attribute(elements[k], "nodegraph").empty()) {
-        warnings.push_back(fmt::format("{}: {} of '{}' is connected to a node: left at its default", path, name, material.name));
+        warnings.push_back(
+            fmt::format("{}: {} of '{}' is connected to a node: left at its default", path, name, material.name));
         continue;
       }
       const std::vector<double> value = parse_numbers(attribute(elements[k], "value"), name, path);
-      if (name == "base_weight") base_weight = value[0];
-      else if (name == "specular_weight") specular_weight = value[0];
-      else if (model.find_parameter(name)) set_parameter(model, material, name, value, path, warnings);
+      if (name == "base_weight")
+        base_weight = value[0];
+      else if (name == "specular_weight")
+        specular_weight = value[0];
+      else if (model.find_parameter(name))
+        set_parameter(model, material, name, value, path, warnings);
       else if (name == "specular_roughness_anisotropy" && value[0] != 0.0)
         warnings.push_back(fmt::format("{}: specular_roughness_anisotropy {} of '{}' is held at 0 by the openpbr model",
                                        path, value[0], material.name));
@@ -274,9 +289,9 @@ std::vector<Material> read_mitsuba(const std::string& path, std::vector<std::str
   if (elements.empty() || elements[0].tag != "scene") fail("{}: not a Mitsuba scene (<scene>)", path);
   const Model& model = *find_model("principled");
   const std::map<std::string, std::string> ours = {
-      {"base_color", "baseColor"}, {"metallic", "metallic"},     {"roughness", "roughness"},
+      {"base_color", "baseColor"}, {"metallic", "metallic"},      {"roughness", "roughness"},
       {"specular", "specular"},    {"spec_tint", "specularTint"}, {"flatness", "subsurface"},
-      {"sheen", "sheen"},          {"clearcoat", "clearcoat"},     {"clearcoat_gloss", "clearcoatGloss"}};
+      {"sheen", "sheen"},          {"clearcoat", "clearcoat"},    {"clearcoat_gloss", "clearcoatGloss"}};
   std::vector<Material> materials;
   for (size_t i = 0; i < elements.size(); ++i) {
     if (elements[i].tag != "bsdf" || attribute(elements[i], "type") != "principled") continue;
@@ -284,8 +299,9 @@ std::vector<Material> read_mitsuba(const std::string& path, std::vector<std::str
     Material material{id.empty() ? fmt::format("bsdf {}", materials.size()) : id, model.name(), model.default_values()};
     // Mitsuba's defaults where a parameter is absent.
     const std::map<std::string, std::vector<double>> defaults = {
-        {"baseColor", {0.5}}, {"metallic", {0.0}}, {"roughness", {0.5}}, {"specular", {0.5}}, {"specularTint", {0.0}},
-        {"subsurface", {0.0}}, {"sheen", {0.0}}, {"clearcoat", {0.0}}, {"clearcoatGloss", {0.0}}};
+        {"baseColor", {0.5}}, {"metallic", {0.0}},     {"roughness", {0.5}},
+        {"specular", {0.5}},  {"specularTint", {0.0}}, {"subsurface", {0.0}},
+        {"sheen", {0.0}},     {"clearcoat", {0.0}},    {"clearcoatGloss", {0.0}}};
     for (const auto& [name, value] : defaults) set_parameter(model, material, name, value, path, warnings);
     double sheen_tint = 0.0;
     for (size_t k = i + 1; k < elements.size(); ++k) {
@@ -298,15 +314,17 @@ std::vector<Material> read_mitsuba(const std::string& path, std::vector<std::str
       if (elements[k].tag != "rgb" && elements[k].tag != "float") continue;
       const std::vector<double> value = parse_numbers(attribute(elements[k], "value"), name, path);
       const auto it = ours.find(name);
-      if (it != ours.end()) set_parameter(model, material, it->second, value, path, warnings);
-      else if (name == "sheen_tint") sheen_tint = value[0];
+      if (it != ours.end())
+        set_parameter(model, material, it->second, value, path, warnings);
+      else if (name == "sheen_tint")
+        sheen_tint = value[0];
       else if (value[0] != 0.0)
-        warnings.push_back(fmt::format("{}: {} = {} of '{}' is not in brdffit's principled model (held at 0)", path, name,
-                                       value[0], material.name));
+        warnings.push_back(fmt::format("{}: {} = {} of '{}' is not in brdffit's principled model (held at 0)", path,
+                                       name, value[0], material.name));
     }
     if (sheen_tint != 0.5 && material.values[model.offset_of("sheen")] > 0.0)
-      warnings.push_back(fmt::format("{}: sheen_tint {} of '{}' is held at 0.5 by the principled model", path, sheen_tint,
-                                     material.name));
+      warnings.push_back(fmt::format("{}: sheen_tint {} of '{}' is held at 0.5 by the principled model", path,
+                                     sheen_tint, material.name));
     materials.push_back(std::move(material));
   }
   return materials;
@@ -317,13 +335,19 @@ std::vector<Material> read_mitsuba(const std::string& path, std::vector<std::str
 std::vector<Material> read_materials(const std::string& path, std::vector<std::string>& warnings) {
   const std::string extension = std::filesystem::path(path).extension().string();
   std::vector<Material> materials;
-  if (extension == ".gltf") materials = read_gltf(path, warnings);
-  else if (extension == ".mtlx") materials = read_materialx(path, warnings);
-  else if (extension == ".xml") materials = read_mitsuba(path, warnings);
-  else fail("{}: a material is read from .gltf, .mtlx (OpenPBR) or Mitsuba .xml (principled)", path);
+  if (extension == ".gltf")
+    materials = read_gltf(path, warnings);
+  else if (extension == ".mtlx")
+    materials = read_materialx(path, warnings);
+  else if (extension == ".xml")
+    materials = read_mitsuba(path, warnings);
+  else
+    fail("{}: a material is read from .gltf, .mtlx (OpenPBR) or Mitsuba .xml (principled)", path);
   if (materials.empty())
     fail("{}: holds no {}", path,
-         extension == ".gltf" ? "material" : extension == ".mtlx" ? "open_pbr_surface" : "principled bsdf");
+         extension == ".gltf"   ? "material"
+         : extension == ".mtlx" ? "open_pbr_surface"
+                                : "principled bsdf");
   return materials;
 }
 
@@ -332,7 +356,8 @@ Material read_material(const std::string& path, const std::string& name, std::ve
   std::string names;
   for (const Material& m : materials) names += (names.empty() ? "" : ", ") + m.name;
   if (name.empty()) {
-    if (materials.size() > 1) fail("{}: holds {} materials ({}): choose one with --name", path, materials.size(), names);
+    if (materials.size() > 1)
+      fail("{}: holds {} materials ({}): choose one with --name", path, materials.size(), names);
     return materials.front();
   }
   for (Material& m : materials)

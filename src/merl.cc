@@ -45,8 +45,8 @@ MerlTable MerlTable::parse(const std::string& bytes, const std::string& name) {
   table.dims_ = {dims[0], dims[1], dims[2]};
   const size_t expected = kHeaderBytes + 3 * table.bins() * sizeof(double);
   if (bytes.size() < expected)
-    fail("{}: truncated MERL table: {} bytes, the {}x{}x{} header needs {}", name, bytes.size(), dims[0], dims[1], dims[2],
-         expected);
+    fail("{}: truncated MERL table: {} bytes, the {}x{}x{} header needs {}", name, bytes.size(), dims[0], dims[1],
+         dims[2], expected);
   if (bytes.size() > expected)
     fail("{}: oversized MERL table: {} bytes, the {}x{}x{} header needs {} ({} extra)", name, bytes.size(), dims[0],
          dims[1], dims[2], expected, bytes.size() - expected);
@@ -56,8 +56,9 @@ MerlTable MerlTable::parse(const std::string& bytes, const std::string& name) {
   const size_t nan = std::count_if(table.raw_.begin(), table.raw_.end(), [](double x) { return std::isnan(x); });
   const size_t infinite = std::count_if(table.raw_.begin(), table.raw_.end(), [](double x) { return std::isinf(x); });
   if (nan + infinite > 0) {
-    const size_t first = std::find_if(table.raw_.begin(), table.raw_.end(), [](double x) { return !std::isfinite(x); }) -
-                         table.raw_.begin();
+    const size_t first =
+        std::find_if(table.raw_.begin(), table.raw_.end(), [](double x) { return !std::isfinite(x); }) -
+        table.raw_.begin();
     fail("{}: {} NaN and {} infinite values in the MERL table (the first in channel {} of bin {})", name, nan, infinite,
          "RGB"[first / table.bins()], first % table.bins());
   }
@@ -91,7 +92,7 @@ Rgb<double> MerlTable::lookup(const Vec3& l, const Vec3& v, Interpolation interp
   const std::array<double, 3> x = coordinates(l.normalized(), v.normalized());
   auto clamp_index = [](int i, int n) { return std::clamp(i, 0, n - 1); };
   auto wrap_index = [](int i, int n) { return ((i % n) + n) % n; };  // φd is periodic
-  auto bin_at = [&](const int (&i)[3]) {
+  auto bin_at = [&](const int(&i)[3]) {
     return bin_index(clamp_index(i[0], dims_[0]), clamp_index(i[1], dims_[1]), wrap_index(i[2], dims_[2]));
   };
 
@@ -162,9 +163,10 @@ void write_merl(const std::string& path, const std::function<Rgb<double>(const V
     const Rgb<double> f = brdf(l, v);
     if (!f.allFinite() || (f.array() < 0.0).any()) {
       const HalfDiff a = grid.centre(ih, id, ip);
-      fail("{}: cannot write f = ({}, {}, {}) at θh {:.3f}°, θd {:.3f}°, φd {:.3f}°: MERL values must be finite and "
-           "non-negative (negative marks a bin without a measurement)",
-           path, f[0], f[1], f[2], degrees(a.theta_h), degrees(a.theta_d), degrees(a.phi_d));
+      fail(
+          "{}: cannot write f = ({}, {}, {}) at θh {:.3f}°, θd {:.3f}°, φd {:.3f}°: MERL values must be finite and "
+          "non-negative (negative marks a bin without a measurement)",
+          path, f[0], f[1], f[2], degrees(a.theta_h), degrees(a.theta_d), degrees(a.phi_d));
     }
     const size_t bin = (size_t(ih) * dims[1] + id) * dims[2] + ip;
     for (int c = 0; c < 3; ++c) raw[c * bins + bin] = f[c] / MerlTable::kScale[c];

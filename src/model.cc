@@ -1,9 +1,9 @@
 #include "brdffit/model.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <mutex>
-#include <cmath>
 #include <numeric>
 #include <sstream>
 
@@ -17,13 +17,20 @@ namespace brdffit {
 
 const char* role_name(Role role) {
   switch (role) {
-    case Role::DiffuseColour: return "diffuse colour";
-    case Role::SpecularColour: return "specular colour";
-    case Role::F0: return "F0";
-    case Role::Roughness: return "roughness";
-    case Role::Exponent: return "exponent";
-    case Role::Wrap: return "wrap";
-    case Role::Shape: return "shape";
+    case Role::DiffuseColour:
+      return "diffuse colour";
+    case Role::SpecularColour:
+      return "specular colour";
+    case Role::F0:
+      return "F0";
+    case Role::Roughness:
+      return "roughness";
+    case Role::Exponent:
+      return "exponent";
+    case Role::Wrap:
+      return "wrap";
+    case Role::Shape:
+      return "shape";
   }
   return "shape";
 }
@@ -119,10 +126,14 @@ std::string model_names() {
 
 const char* metric_name(Metric metric) {
   switch (metric) {
-    case Metric::Cosine: return "cosine";
-    case Metric::Log: return "log";
-    case Metric::Relative: return "relative";
-    case Metric::L2: return "l2";
+    case Metric::Cosine:
+      return "cosine";
+    case Metric::Log:
+      return "log";
+    case Metric::Relative:
+      return "relative";
+    case Metric::L2:
+      return "l2";
   }
   return "cosine";
 }
@@ -135,14 +146,17 @@ std::optional<Metric> parse_metric(const std::string& name) {
 
 double Metrics::get(Metric metric) const {
   switch (metric) {
-    case Metric::Cosine: return cosine;
-    case Metric::Log: return log;
-    case Metric::Relative: return relative;
-    case Metric::L2: return l2;
+    case Metric::Cosine:
+      return cosine;
+    case Metric::Log:
+      return log;
+    case Metric::Relative:
+      return relative;
+    case Metric::L2:
+      return l2;
   }
   return cosine;
 }
-
 
 namespace {
 std::vector<double> parse_numbers(const std::string& text, const std::string& what) {
@@ -197,7 +211,6 @@ Vec3 parse_vec3(const std::string& text, const std::string& what) {
   if (numbers.size() != 3) fail("{}: expected X,Y,Z, got '{}'", what, text);
   return Vec3(numbers[0], numbers[1], numbers[2]);
 }
-
 
 std::vector<const Model*> parse_model_list(const std::string& list) {
   std::vector<const Model*> models;

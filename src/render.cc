@@ -61,8 +61,8 @@ cv::Mat render_measured_sphere(const MeasuredBrdf& table, const SphereLighting& 
 
 cv::Mat render_fitted_sphere(const Model& model, const FitResult& fit, const SphereLighting& lighting, int size) {
   fitted_brdf(model, fit);  // checks the values
-  return render_sphere(model, fit.values, SphereView::centred(size), light_in_camera_frame(lighting), cv::Size(size, size),
-                       fit.channel_values);
+  return render_sphere(model, fit.values, SphereView::centred(size), light_in_camera_frame(lighting),
+                       cv::Size(size, size), fit.channel_values);
 }
 
 cv::Mat sphere_mask(int size) { return sphere_pixels(SphereView::centred(size), cv::Size(size, size)); }

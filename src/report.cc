@@ -39,8 +39,8 @@ std::string anchor(const std::string& material) {
 std::string parameters_html(const FitResult& fit) {
   std::string out;
   for (const ParameterEstimate& p : fit.parameters) {
-    out += fmt::format("<div>{} {}{}{}</div>", html(p.name), format_values(p.value), p.at_bound ? " <i>at bound</i>" : "",
-                       p.identifiable ? "" : " <i>not identifiable</i>");
+    out += fmt::format("<div>{} {}{}{}</div>", html(p.name), format_values(p.value),
+                       p.at_bound ? " <i>at bound</i>" : "", p.identifiable ? "" : " <i>not identifiable</i>");
   }
   return out;
 }
@@ -53,10 +53,10 @@ std::string image_tag(const cv::Mat& display, const std::string& alt) {
 // One row of pictures: the measured table's or one model's.
 struct Row {
   std::string label;
-  const FitResult* fit = nullptr;  // null for the measured row
-  double error = NAN;              // under the ranking metric
-  std::string note;                // why the row has no pictures
-  cv::Mat sphere, slice;           // linear
+  const FitResult* fit = nullptr;           // null for the measured row
+  double error = NAN;                       // under the ranking metric
+  std::string note;                         // why the row has no pictures
+  cv::Mat sphere, slice;                    // linear
   std::vector<std::vector<double>> curves;  // luminance of f, one per incidence angle
 };
 
@@ -107,17 +107,19 @@ std::string polar_svg(const Row* measured, const Row* model, const PolarScale& s
   svg += fmt::format("<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"#ddd\"/>", cx, cy, cx, cy - r);
   for (int decade = 1; decade <= kPolarDecades; ++decade) {
     const double ring = r * decade / kPolarDecades;
-    svg += fmt::format("<path d=\"M {:.1f} {:.1f} A {:.1f} {:.1f} 0 0 1 {:.1f} {:.1f}\" fill=\"none\" stroke=\"#ddd\"/>",
-                       cx - ring, cy, ring, ring, cx + ring, cy);
+    svg +=
+        fmt::format("<path d=\"M {:.1f} {:.1f} A {:.1f} {:.1f} 0 0 1 {:.1f} {:.1f}\" fill=\"none\" stroke=\"#ddd\"/>",
+                    cx - ring, cy, ring, ring, cx + ring, cy);
     svg += fmt::format("<text x=\"{:.1f}\" y=\"{:.1f}\" font-size=\"8\" fill=\"#888\">1e{}</text>", cx + ring - 10,
                        cy + 7, static_cast<int>(scale.top) - kPolarDecades + decade);
   }
   for (size_t i = 0; i < options.incidence_deg.size(); ++i) {
     const char* colour = kIncidenceColours[i % std::size(kIncidenceColours)];
     const double theta = options.incidence_deg[i] * kPi / 180.0;  // the light, on the -x side
-    svg += fmt::format("<line x1=\"{:.1f}\" y1=\"{:.1f}\" x2=\"{:.1f}\" y2=\"{:.1f}\" stroke=\"{}\" stroke-width=\"3\"/>",
-                       cx - r * 1.0 * std::sin(theta), cy - r * 1.0 * std::cos(theta), cx - r * 1.08 * std::sin(theta),
-                       cy - r * 1.08 * std::cos(theta), colour);
+    svg +=
+        fmt::format("<line x1=\"{:.1f}\" y1=\"{:.1f}\" x2=\"{:.1f}\" y2=\"{:.1f}\" stroke=\"{}\" stroke-width=\"3\"/>",
+                    cx - r * 1.0 * std::sin(theta), cy - r * 1.0 * std::cos(theta), cx - r * 1.08 * std::sin(theta),
+                    cy - r * 1.08 * std::cos(theta), colour);
     if (measured) svg += polyline(measured->curves[i], scale, cx, cy, r, colour, true);
     if (model) svg += polyline(model->curves[i], scale, cx, cy, r, colour, false);
   }
@@ -176,11 +178,14 @@ std::string comparison_html(const Comparison& c) {
   const auto number = [](double x) { return std::isfinite(x) ? fmt::format("{:.4g}", x) : std::string("–"); };
   for (const ModelSummary& m : c.models)
     out += fmt::format(
-        "<tr><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td>"
+        "<tr><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td "
+        "class=\"num\">{}</td>"
         "<td class=\"num\">{:.2f}</td><td class=\"num\">{}</td></tr>",
-        html(m.model), m.materials - m.failed, m.failed, number(m.mean_error), number(m.median_error), m.mean_rank, m.wins);
+        html(m.model), m.materials - m.failed, m.failed, number(m.mean_error), number(m.median_error), m.mean_rank,
+        m.wins);
   // Wide with many models: the matrix scrolls sideways inside its own box, the page does not.
-  out += "</table><h3>Error per material (rank)</h3><div class=\"scroll\"><table class=\"matrix\"><tr><th>material</th>";
+  out +=
+      "</table><h3>Error per material (rank)</h3><div class=\"scroll\"><table class=\"matrix\"><tr><th>material</th>";
   for (const ModelSummary& m : c.models) out += "<th>" + html(m.model) + "</th>";
   out += "</tr>";
   for (const MaterialRanking& material : c.materials) {
@@ -192,9 +197,10 @@ std::string comparison_html(const Comparison& c) {
       else if (!r->ok)
         out += "<td class=\"failed\">failed</td>";
       else
-        out += fmt::format("<td class=\"num{}{}\"{}>{:.4g} ({})</td>", r->rank == 1 ? " best" : "",
-                           r->verdict == Verdict::Poor ? " poor" : "",
-                           r->verdict == Verdict::Poor ? " title=\"poor fit: see its warnings\"" : "", r->error, r->rank);
+        out +=
+            fmt::format("<td class=\"num{}{}\"{}>{:.4g} ({})</td>", r->rank == 1 ? " best" : "",
+                        r->verdict == Verdict::Poor ? " poor" : "",
+                        r->verdict == Verdict::Poor ? " title=\"poor fit: see its warnings\"" : "", r->error, r->rank);
     }
     out += "</tr>";
   }
@@ -209,7 +215,8 @@ std::string material_html(const FitDocument& document, const MaterialRanking& ra
     table = open_measured(document.input_path);
     const nlohmann::json& recorded = document.json["input"]["sha256"];
     if (recorded.is_string() && recorded.get<std::string>() != sha256_file(document.input_path))
-      notes += "<p class=\"note\">The table has changed since it was fitted: the pictures show its current contents.</p>";
+      notes +=
+          "<p class=\"note\">The table has changed since it was fitted: the pictures show its current contents.</p>";
   } catch (const Error& e) {
     notes += fmt::format("<p class=\"note\">No measured pictures: {}</p>", html(e.what()));
   }
@@ -261,8 +268,9 @@ std::string material_html(const FitDocument& document, const MaterialRanking& ra
 
   std::string out = fmt::format("<section class=\"material\" id=\"{}\"><h2>{}</h2>", anchor(ranking.material),
                                 html(ranking.material));
-  out += fmt::format("<p class=\"meta\">{} · {} samples ({} weights) · result {}</p>", html(document.input_path),
-                     document.json.value("samples", 0), html(document.json.value("weighting", "?")), html(document.path));
+  out +=
+      fmt::format("<p class=\"meta\">{} · {} samples ({} weights) · result {}</p>", html(document.input_path),
+                  document.json.value("samples", 0), html(document.json.value("weighting", "?")), html(document.path));
   out += notes;
   std::string incidence;
   for (size_t i = 0; i < options.incidence_deg.size(); ++i)
@@ -272,19 +280,22 @@ std::string material_html(const FitDocument& document, const MaterialRanking& ra
   const Vec3& v = options.lighting.view;
   out += fmt::format(
       "<p class=\"legend\">Spheres: light from ({:.2g}, {:.2g}, {:.2g}), seen from ({:.2g}, {:.2g}, {:.2g}); f·cosθi "
-      "tone-mapped with reference {:.4g} ({}). Slices: f at φd = 90°, θh → right (√-spaced), θd ↓, reference {:.4g}.<br>"
+      "tone-mapped with reference {:.4g} ({}). Slices: f at φd = 90°, θh → right (√-spaced), θd ↓, reference "
+      "{:.4g}.<br>"
       "Errors |fit − measured| (largest channel): spheres 0 {} {:.3g}, slices 0 {} {:.3g}.<br>"
       "In-plane curves, log10 f over {} decades, light on the left: {}; dashed measured, solid model.</p>",
       l.x(), l.y(), l.z(), v.x(), v.y(), v.z(), sphere_reference,
       measured ? "99th percentile of the measured sphere" : "the best model's, no measured data", slice_reference, bar,
       kErrorFullScale * sphere_reference, bar, kErrorFullScale * slice_reference, kPolarDecades, incidence);
 
-  out += "<table class=\"pictures\"><tr><th></th><th>sphere</th><th>sphere error</th><th>θh/θd slice</th>"
-         "<th>slice error</th><th>in plane</th><th>parameters</th></tr>";
+  out +=
+      "<table class=\"pictures\"><tr><th></th><th>sphere</th><th>sphere error</th><th>θh/θd slice</th>"
+      "<th>slice error</th><th>in plane</th><th>parameters</th></tr>";
   for (const Row& row : rows) {
     const bool is_measured = &row == measured;
     out += "<tr><th class=\"row\">" + html(row.label);
-    if (!is_measured) out += fmt::format("<br><span class=\"params\">{} {:.4g}</span>", metric_name(*options.metric), row.error);
+    if (!is_measured)
+      out += fmt::format("<br><span class=\"params\">{} {:.4g}</span>", metric_name(*options.metric), row.error);
     if (row.fit && row.fit->verdict == Verdict::Poor) out += "<br><span class=\"poor-verdict\">poor fit</span>";
     out += "</th>";
     if (!row.note.empty()) {
@@ -293,13 +304,14 @@ std::string material_html(const FitDocument& document, const MaterialRanking& ra
     }
     out += "<td>" + image_tag(tone_map(row.sphere, sphere_reference), row.label + " sphere") + "</td><td>";
     if (measured && !is_measured)
-      out += image_tag(error_heatmap(channel_max_difference(row.sphere, measured->sphere),
-                                     kErrorFullScale * sphere_reference, mask),
-                       row.label + " sphere error");
+      out += image_tag(
+          error_heatmap(channel_max_difference(row.sphere, measured->sphere), kErrorFullScale * sphere_reference, mask),
+          row.label + " sphere error");
     out += "</td><td>" + image_tag(tone_map(row.slice, slice_reference), row.label + " slice") + "</td><td>";
     if (measured && !is_measured)
-      out += image_tag(error_heatmap(channel_max_difference(row.slice, measured->slice), kErrorFullScale * slice_reference),
-                       row.label + " slice error");
+      out += image_tag(
+          error_heatmap(channel_max_difference(row.slice, measured->slice), kErrorFullScale * slice_reference),
+          row.label + " slice error");
     out += "</td><td>" + polar_svg(measured, is_measured ? nullptr : &row, scale, options) + "</td>";
     std::string warnings;
     if (row.fit)
@@ -322,7 +334,8 @@ std::string png_data_uri(const cv::Mat& display) {
   std::vector<uchar> png;
   if (!cv::imencode(".png", bgr, png)) fail("internal: cannot encode a PNG image");
   std::string base64(4 * ((png.size() + 2) / 3) + 1, '\0');
-  const int length = EVP_EncodeBlock(reinterpret_cast<unsigned char*>(base64.data()), png.data(), static_cast<int>(png.size()));
+  const int length =
+      EVP_EncodeBlock(reinterpret_cast<unsigned char*>(base64.data()), png.data(), static_cast<int>(png.size()));
   base64.resize(static_cast<size_t>(length));
   return "data:image/png;base64," + base64;
 }
@@ -336,7 +349,8 @@ std::string report_html(const std::vector<FitDocument>& documents, const ReportO
   std::string page = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>brdffit report</title>";
   page += fmt::format("<style>{}</style></head><body>\n", kStyle);
   page += fmt::format(
-      "<header><h1>brdffit report</h1><p class=\"meta\">{} materials, {} models, ranked by the {} metric · brdffit {}</p>"
+      "<header><h1>brdffit report</h1><p class=\"meta\">{} materials, {} models, ranked by the {} metric · brdffit "
+      "{}</p>"
       "<p id=\"image-check\"></p></header>\n",
       documents.size(), comparison.models.size(), metric_name(*options.metric), BRDFFIT_VERSION);
   page += comparison_html(comparison);

@@ -33,9 +33,9 @@ std::vector<double> read_numbers(const nlohmann::json& j) {
 }
 
 nlohmann::json metrics_json(const Metrics& m) {
-  return {{"cosine", number_or_null(m.cosine)}, {"log", number_or_null(m.log)},
+  return {{"cosine", number_or_null(m.cosine)},     {"log", number_or_null(m.log)},
           {"relative", number_or_null(m.relative)}, {"l2", number_or_null(m.l2)},
-          {"max", number_or_null(m.max)}, {"typical", number_or_null(m.typical)}};
+          {"max", number_or_null(m.max)},           {"typical", number_or_null(m.typical)}};
 }
 
 Verdict verdict_from(const std::string& name, const std::string& path) {
@@ -46,9 +46,12 @@ Verdict verdict_from(const std::string& name, const std::string& path) {
 
 const char* loss_name(LossKind loss) {
   switch (loss) {
-    case LossKind::Huber: return "huber";
-    case LossKind::Cauchy: return "cauchy";
-    case LossKind::None: break;
+    case LossKind::Huber:
+      return "huber";
+    case LossKind::Cauchy:
+      return "cauchy";
+    case LossKind::None:
+      break;
   }
   return "none";
 }
@@ -163,7 +166,9 @@ nlohmann::json fit_document_json(const std::string& input_path, const SampleSet&
   }
   return {{"schema", kSchema},
           {"tool", "brdffit " BRDFFIT_VERSION},
-          {"input", {{"path", absolute_path(input_path)}, {"sha256", sha256.empty() ? nlohmann::json(nullptr) : nlohmann::json(sha256)}}},
+          {"input",
+           {{"path", absolute_path(input_path)},
+            {"sha256", sha256.empty() ? nlohmann::json(nullptr) : nlohmann::json(sha256)}}},
           {"samples", data.size()},
           {"weighting", data.weighting},
           {"metric", metric_name(options.metric)},
@@ -205,7 +210,8 @@ FitDocument read_fit_document(const std::string& path) {
           if (!channels.is_array() || channels.size() != 3)
             fail("{}.channel_values: expected one value vector per channel (3)", where);
           for (size_t c = 0; c < 3; ++c)
-            r.channel_values.push_back(read_value_vector(channels[c], *model, fmt::format("{}.channel_values[{}]", where, c)));
+            r.channel_values.push_back(
+                read_value_vector(channels[c], *model, fmt::format("{}.channel_values[{}]", where, c)));
         }
       } else {
         r.values = read_numbers(m.value("values", nlohmann::json::array()));  // nothing to use: kept for the record
@@ -227,8 +233,9 @@ FitDocument read_fit_document(const std::string& path) {
           return std::find_if(specs.begin(), specs.end(), [&](const ParamSpec& p) { return p.name == e.name; }) -
                  specs.begin();
         };
-        std::stable_sort(r.parameters.begin(), r.parameters.end(),
-                         [&](const ParameterEstimate& a, const ParameterEstimate& b) { return position(a) < position(b); });
+        std::stable_sort(
+            r.parameters.begin(), r.parameters.end(),
+            [&](const ParameterEstimate& a, const ParameterEstimate& b) { return position(a) < position(b); });
       }
       const auto& metrics = m.at("metrics");
       auto metric = [&](const char* key) { return metrics.at(key).is_number() ? metrics.at(key).get<double>() : NAN; };

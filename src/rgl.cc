@@ -134,7 +134,8 @@ std::array<double, 2> ParametricGrid2D::invert(double ux, double uy, const doubl
   double cdf_x = sx * (c0 + 0.5 * sx * (c1 - c0));
   cdf_x += (1 - sy) * at(conditional_cdf_, b, slice_size, i) + sy * at(conditional_cdf_, b, slice_size, i + nx_);
   const size_t row_end = size_t(y) * nx_ + nx_ - 1;
-  const double r0 = at(conditional_cdf_, b, slice_size, row_end), r1 = at(conditional_cdf_, b, slice_size, row_end + nx_);
+  const double r0 = at(conditional_cdf_, b, slice_size, row_end),
+               r1 = at(conditional_cdf_, b, slice_size, row_end + nx_);
   const double row_total = (1 - sy) * r0 + sy * r1;
   // y: the marginal CDF at the patch's row plus the integral across the patch.
   double cdf_y = sy * (r0 + 0.5 * sy * (r1 - r0));
@@ -159,7 +160,8 @@ RglBrdf RglBrdf::parse(const std::string& bytes, const std::string& name) {
 
   const uint64_t n_phi = phi_i.shape[0], n_theta = theta_i.shape[0];
   if (n_phi < 1 || n_theta < 2)
-    fail("{}: field 'phi_i' needs at least 1 value and 'theta_i' at least 2 (they have {} and {})", name, n_phi, n_theta);
+    fail("{}: field 'phi_i' needs at least 1 value and 'theta_i' at least 2 (they have {} and {})", name, n_phi,
+         n_theta);
   file.expect_shape("vndf", {n_phi, n_theta, 0, 0});
   file.expect_shape("rgb", {n_phi, n_theta, 3, 0, 0});
   // Every table is bilinear between vertices, so needs at least 2x2 of them.
@@ -177,9 +179,12 @@ RglBrdf RglBrdf::parse(const std::string& bytes, const std::string& name) {
   // are held once each.
   std::vector<float> ndf_values = file.release_floats("ndf"), sigma_values = file.release_floats("sigma");
   std::vector<float> vndf_values = file.release_floats("vndf"), rgb_values = file.release_floats("rgb");
-  for (const auto& [field_name, values] :
-       {std::pair{"theta_i", &theta_axis}, {"phi_i", &phi_axis}, {"ndf", &ndf_values}, {"sigma", &sigma_values},
-        {"vndf", &vndf_values}, {"rgb", &rgb_values}}) {
+  for (const auto& [field_name, values] : {std::pair{"theta_i", &theta_axis},
+                                           {"phi_i", &phi_axis},
+                                           {"ndf", &ndf_values},
+                                           {"sigma", &sigma_values},
+                                           {"vndf", &vndf_values},
+                                           {"rgb", &rgb_values}}) {
     const auto nan = count_values(*values, [](float x) { return std::isnan(x); });
     const auto infinite = count_values(*values, [](float x) { return std::isinf(x); });
     if (nan + infinite > 0) fail("{}: field '{}' has {} NaN and {} infinite values", name, field_name, nan, infinite);

@@ -32,7 +32,8 @@ SphereView::SphereView(const Circle& outline, const Camera& camera) : outline_(o
   // them its half-angle α, so a sphere of radius 1 has its centre at distance 1/sin α.
   Eigen::Vector2d radial(outline.x - camera.principal_x, outline.y - camera.principal_y);
   radial = radial.norm() > 1e-9 ? Eigen::Vector2d(radial.normalized()) : Eigen::Vector2d(1.0, 0.0);
-  const Vec3 near = camera_ray(camera, outline.x - outline.radius * radial.x(), outline.y - outline.radius * radial.y());
+  const Vec3 near =
+      camera_ray(camera, outline.x - outline.radius * radial.x(), outline.y - outline.radius * radial.y());
   const Vec3 far = camera_ray(camera, outline.x + outline.radius * radial.x(), outline.y + outline.radius * radial.y());
   const double half_angle = 0.5 * std::acos(std::clamp(near.dot(far), -1.0, 1.0));
   centre_ = (near + far).normalized() / std::sin(half_angle);
@@ -67,8 +68,10 @@ bool SphereView::surface_at(double x, double y, Vec3& normal, Vec3& view) const 
 cv::Rect SphereView::bounds(cv::Size image) const {
   // The perspective silhouette is a slightly larger ellipse than the outline circle.
   const double reach = outline_.radius * (camera_.perspective() ? 1.1 : 1.0) + 2.0;
-  const cv::Rect box(cv::Point(static_cast<int>(std::floor(outline_.x - reach)), static_cast<int>(std::floor(outline_.y - reach))),
-                     cv::Point(static_cast<int>(std::ceil(outline_.x + reach)) + 1, static_cast<int>(std::ceil(outline_.y + reach)) + 1));
+  const cv::Rect box(
+      cv::Point(static_cast<int>(std::floor(outline_.x - reach)), static_cast<int>(std::floor(outline_.y - reach))),
+      cv::Point(static_cast<int>(std::ceil(outline_.x + reach)) + 1,
+                static_cast<int>(std::ceil(outline_.y + reach)) + 1));
   return box & cv::Rect(cv::Point(0, 0), image);
 }
 
@@ -76,11 +79,16 @@ LocalFrame::LocalFrame(const Vec3& n) : tangent(n.unitOrthogonal()), bitangent(n
 
 const char* pixel_fate_name(PixelFate fate) {
   switch (fate) {
-    case PixelFate::Used: return "used";
-    case PixelFate::Shadow: return "shadow";
-    case PixelFate::Grazing: return "grazing";
-    case PixelFate::Saturated: return "saturated";
-    case PixelFate::Dark: return "dark";
+    case PixelFate::Used:
+      return "used";
+    case PixelFate::Shadow:
+      return "shadow";
+    case PixelFate::Grazing:
+      return "grazing";
+    case PixelFate::Saturated:
+      return "saturated";
+    case PixelFate::Dark:
+      return "dark";
   }
   return "?";
 }
@@ -108,22 +116,24 @@ cv::Mat render_sphere(const ShadeFunction& shade, const SphereView& sphere, cons
       if (!sphere.surface_at(x, y, normal, view)) continue;
       const LocalFrame frame(normal);
       const Rgb<double> value = shade(frame.to_local(l), frame.to_local(view));
-      image.at<cv::Vec3f>(y, x) = cv::Vec3f(static_cast<float>(value[0]), static_cast<float>(value[1]), static_cast<float>(value[2]));
+      image.at<cv::Vec3f>(y, x) =
+          cv::Vec3f(static_cast<float>(value[0]), static_cast<float>(value[1]), static_cast<float>(value[2]));
     }
   });
   return image;
 }
 
-cv::Mat render_sphere(const Model& model, const std::vector<double>& values, const SphereView& sphere, const Vec3& light,
-                      cv::Size size, const std::vector<std::vector<double>>& per_channel_values) {
+cv::Mat render_sphere(const Model& model, const std::vector<double>& values, const SphereView& sphere,
+                      const Vec3& light, cv::Size size, const std::vector<std::vector<double>>& per_channel_values) {
   return render_sphere(
-      [&](const Vec3& l, const Vec3& v) { return shade_fitted(model, values, per_channel_values, l, v); }, sphere, light,
-      size);
+      [&](const Vec3& l, const Vec3& v) { return shade_fitted(model, values, per_channel_values, l, v); }, sphere,
+      light, size);
 }
 
 cv::Mat sphere_pixels(const SphereView& sphere, cv::Size size) {
   cv::Mat pixels(size, CV_8U, cv::Scalar(0));
-  for_each_sphere_pixel(sphere, size, cv::Mat(), [&](int x, int y, const Vec3&, const Vec3&) { pixels.at<uint8_t>(y, x) = 255; });
+  for_each_sphere_pixel(sphere, size, cv::Mat(),
+                        [&](int x, int y, const Vec3&, const Vec3&) { pixels.at<uint8_t>(y, x) = 255; });
   return pixels;
 }
 

@@ -45,7 +45,8 @@ std::vector<ImageInfo> survey(const std::vector<std::string>& paths) {
 }
 
 // Each image's exposure time relative to the first image's.
-std::vector<double> relative_exposures(const SphereInput& input, const std::vector<ImageInfo>& infos, std::string& from) {
+std::vector<double> relative_exposures(const SphereInput& input, const std::vector<ImageInfo>& infos,
+                                       std::string& from) {
   std::vector<double> times;
   if (!input.exposures.empty()) {
     times = read_exposures(input.exposures, infos.size());
@@ -65,14 +66,17 @@ std::vector<double> relative_exposures(const SphereInput& input, const std::vect
 // The light direction of every image: from the lights file, or estimated on the chrome ball.
 std::vector<Vec3> light_directions(const SphereInput& input, SphereObservation& observation) {
   const size_t count = input.images.size();
-  if (!input.lights.empty() && !input.chrome.empty()) fail("give the light directions either as a file or as chrome-ball photographs, not both");
+  if (!input.lights.empty() && !input.chrome.empty())
+    fail("give the light directions either as a file or as chrome-ball photographs, not both");
   if (!input.lights.empty()) {
     observation.lights_from = input.lights;
     return read_light_directions(input.lights, count);
   }
-  if (input.chrome.empty()) fail("no light directions: give a lights file or photographs of a chrome ball under the same lights");
+  if (input.chrome.empty())
+    fail("no light directions: give a lights file or photographs of a chrome ball under the same lights");
   if (input.chrome.size() != count)
-    fail("{} chrome-ball photographs for {} images: there must be one per image, in the same order", input.chrome.size(), count);
+    fail("{} chrome-ball photographs for {} images: there must be one per image, in the same order",
+         input.chrome.size(), count);
   const std::vector<ImageInfo> chrome_infos = survey(input.chrome);
   const cv::Size chrome_size(chrome_infos[0].width, chrome_infos[0].height);
   Circle outline;
@@ -87,7 +91,8 @@ std::vector<Vec3> light_directions(const SphereInput& input, SphereObservation& 
   }
   const SphereView ball(outline, Camera::centred(input.focal_px, chrome_size));
   std::vector<Vec3> lights;
-  for (const std::string& path : input.chrome) lights.push_back(light_from_chrome(read_image(path, input.decoding), ball, path));
+  for (const std::string& path : input.chrome)
+    lights.push_back(light_from_chrome(read_image(path, input.decoding), ball, path));
   observation.chrome_ball = ball;
   observation.lights_from = "chrome";
   return lights;
@@ -154,8 +159,10 @@ double value_quantile(const SampleSet& set, double quantile) {
 }
 
 void gather_samples(const SphereInput& input, const std::vector<ImageInfo>& infos, SphereObservation& observation) {
-  const double candidates = static_cast<double>(observation.sphere_pixels) * static_cast<double>(observation.images.size());
-  observation.grid_step = std::max(1, static_cast<int>(std::ceil(std::sqrt(candidates / static_cast<double>(input.max_gathered)))));
+  const double candidates =
+      static_cast<double>(observation.sphere_pixels) * static_cast<double>(observation.images.size());
+  observation.grid_step =
+      std::max(1, static_cast<int>(std::ceil(std::sqrt(candidates / static_cast<double>(input.max_gathered)))));
   const int step = observation.grid_step;
   const cv::Rect box = observation.sphere.bounds(observation.image_size);
   observation.samples.source = describe(input.images);
@@ -209,11 +216,21 @@ void add_diligent_folder(const std::string& folder, SphereInput& input) {
 
 void PixelCounts::add(PixelFate fate) {
   switch (fate) {
-    case PixelFate::Used: ++used; break;
-    case PixelFate::Shadow: ++shadow; break;
-    case PixelFate::Grazing: ++grazing; break;
-    case PixelFate::Saturated: ++saturated; break;
-    case PixelFate::Dark: ++dark; break;
+    case PixelFate::Used:
+      ++used;
+      break;
+    case PixelFate::Shadow:
+      ++shadow;
+      break;
+    case PixelFate::Grazing:
+      ++grazing;
+      break;
+    case PixelFate::Saturated:
+      ++saturated;
+      break;
+    case PixelFate::Dark:
+      ++dark;
+      break;
   }
 }
 
@@ -259,8 +276,10 @@ SphereObservation observe_sphere(const SphereInput& input) {
 
   const PixelCounts& p = observation.pixels;
   if (observation.samples.empty())
-    fail("{}: no usable pixel: of {} sphere pixels over {} images, {} are in shadow, {} grazing, {} saturated and {} too dark",
-         describe(input.images), p.total(), count, p.shadow, p.grazing, p.saturated, p.dark);
+    fail(
+        "{}: no usable pixel: of {} sphere pixels over {} images, {} are in shadow, {} grazing, {} saturated and {} "
+        "too dark",
+        describe(input.images), p.total(), count, p.shadow, p.grazing, p.saturated, p.dark);
   if (!observation.intensities_known) {
     const double level = value_quantile(observation.samples, 0.99);
     if (level > 0.0) observation.intensity_scale = level / kUnknownIntensityLevel;
@@ -280,7 +299,8 @@ std::vector<PhotoError> compare_with_photographs(const SphereObservation& observ
   };
   std::vector<Compared> compared;
   for (const FitResult& fit : fits)
-    if (const Model* model = find_model(fit.model); model && fit.ok) compared.push_back({&fit, model, {fit.model, NAN, {}}});
+    if (const Model* model = find_model(fit.model); model && fit.ok)
+      compared.push_back({&fit, model, {fit.model, NAN, {}}});
 
   const bool write_panels = !panels.dir.empty();
   const bool display = panels.format != "exr";
@@ -289,7 +309,8 @@ std::vector<PhotoError> compare_with_photographs(const SphereObservation& observ
     for (const Compared& c : compared) {
       std::error_code error;
       fs::create_directories(fs::path(panels.dir) / c.model->name(), error);
-      if (error) fail("{}: cannot create folder: {}", (fs::path(panels.dir) / c.model->name()).string(), error.message());
+      if (error)
+        fail("{}: cannot create folder: {}", (fs::path(panels.dir) / c.model->name()).string(), error.message());
     }
 
   const cv::Rect box = observation.sphere.bounds(observation.image_size);
@@ -353,8 +374,8 @@ nlohmann::json json_of(const SphereView& view) {
 std::vector<std::string> sphere_input_files(const SphereInput& input) {
   std::vector<std::string> files = input.images;
   files.insert(files.end(), input.chrome.begin(), input.chrome.end());
-  for (const std::string* file : {&input.lights, &input.chrome_mask, &input.intensities, &input.exposures, &input.mask,
-                                  &input.normals})
+  for (const std::string* file :
+       {&input.lights, &input.chrome_mask, &input.intensities, &input.exposures, &input.mask, &input.normals})
     files.push_back(*file);  // empty ones are ignored by check_outputs
   return files;
 }
@@ -379,13 +400,13 @@ nlohmann::json sphere_document_json(const std::string& input_path, const SphereI
   pixels["gathered"] = observation.samples.size();
   pixels["fitted"] = fitted.size();
   doc["pixels"] = pixels;
-  doc["pixel_rules"] = {{"max_angle_deg", input.rules.max_angle_deg},
-                        {"saturation", input.rules.saturation},
-                        {"dark", input.rules.dark}};
-  doc["photometry"] = {{"value", "pixel / (intensity * exposure / first exposure * intensity_scale) = f cos(theta_i)"},
-                       {"intensities", observation.intensities_known ? nlohmann::json(input.intensities) : nlohmann::json(nullptr)},
-                       {"intensity_scale", observation.intensity_scale},
-                       {"exposures", observation.exposures_from}};
+  doc["pixel_rules"] = {
+      {"max_angle_deg", input.rules.max_angle_deg}, {"saturation", input.rules.saturation}, {"dark", input.rules.dark}};
+  doc["photometry"] = {
+      {"value", "pixel / (intensity * exposure / first exposure * intensity_scale) = f cos(theta_i)"},
+      {"intensities", observation.intensities_known ? nlohmann::json(input.intensities) : nlohmann::json(nullptr)},
+      {"intensity_scale", observation.intensity_scale},
+      {"exposures", observation.exposures_from}};
 
   doc["lights_from"] = observation.lights_from;
   nlohmann::json lights = nlohmann::json::array(), images = nlohmann::json::array();
@@ -394,12 +415,13 @@ nlohmann::json sphere_document_json(const std::string& input_path, const SphereI
     lights.push_back(json_array(image.light));
     nlohmann::json relative_rms = nlohmann::json::object();
     for (const PhotoError& e : errors) relative_rms[e.model] = number_or_null(e.per_image[i]);
-    images.push_back({{"path", absolute_path(image.path)},
-                      {"light", json_array(image.light)},
-                      {"intensity", observation.intensities_known ? json_array(image.intensity) : nlohmann::json(nullptr)},
-                      {"exposure", image.exposure},
-                      {"pixels", json_of(image.pixels)},
-                      {"relative_rms", relative_rms}});
+    images.push_back(
+        {{"path", absolute_path(image.path)},
+         {"light", json_array(image.light)},
+         {"intensity", observation.intensities_known ? json_array(image.intensity) : nlohmann::json(nullptr)},
+         {"exposure", image.exposure},
+         {"pixels", json_of(image.pixels)},
+         {"relative_rms", relative_rms}});
   }
   doc["lights"] = lights;
   doc["images"] = images;

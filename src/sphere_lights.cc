@@ -41,11 +41,13 @@ std::vector<std::vector<double>> read_rows(const std::string& path, size_t colum
     }
     if (row.empty()) continue;
     if (row.size() != columns)
-      fail("{}:{}: expected {} number{} (a {}), found {}", path, number, columns, columns == 1 ? "" : "s", what, row.size());
+      fail("{}:{}: expected {} number{} (a {}), found {}", path, number, columns, columns == 1 ? "" : "s", what,
+           row.size());
     rows.push_back(row);
   }
   if (rows.size() != expected)
-    fail("{}: {} {}{} for {} image{}", path, rows.size(), what, rows.size() == 1 ? "" : "s", expected, expected == 1 ? "" : "s");
+    fail("{}: {} {}{} for {} image{}", path, rows.size(), what, rows.size() == 1 ? "" : "s", expected,
+         expected == 1 ? "" : "s");
   return rows;
 }
 

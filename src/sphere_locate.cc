@@ -2,8 +2,8 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
-#include <optional>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 
 #include "brdffit/error.h"
 #include "brdffit/sphere.h"
@@ -59,9 +59,9 @@ std::vector<cv::Point2d> consensus(const std::vector<cv::Point2d>& points) {
 // shows half its silhouette) and the circle may move only a little from the candidate.
 std::optional<Circle> refine_on_silhouette(const cv::Mat& brightness, const Circle& candidate) {
   constexpr int kRays = 360;
-  constexpr double kStep = 0.25;        // pixels between samples along a ray
-  constexpr double kMinStep = 0.08;     // brightness change across the edge (0..1 scale) that counts
-  constexpr double kMinFraction = 0.3;  // of the rays
+  constexpr double kStep = 0.25;                     // pixels between samples along a ray
+  constexpr double kMinStep = 0.08;                  // brightness change across the edge (0..1 scale) that counts
+  constexpr double kMinFraction = 0.3;               // of the rays
   const int across = static_cast<int>(2.0 / kStep);  // samples in 2 px
   Circle circle = candidate;
   for (int round = 0; round < 3; ++round) {
@@ -165,7 +165,8 @@ cv::Mat brightest_of(const std::vector<std::string>& paths, const Decoding& deco
       continue;
     }
     if (image.size() != brightest.size())
-      fail("{}: is {}x{} pixels, but {} is {}x{}", path, image.cols, image.rows, paths.front(), brightest.cols, brightest.rows);
+      fail("{}: is {}x{} pixels, but {} is {}x{}", path, image.cols, image.rows, paths.front(), brightest.cols,
+           brightest.rows);
     brightest = cv::max(brightest, image);
   }
   return brightest;

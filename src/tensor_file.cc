@@ -16,16 +16,20 @@ namespace {
 size_t type_size(TensorFile::Type type) {
   switch (type) {
     case TensorFile::Type::UInt8:
-    case TensorFile::Type::Int8: return 1;
+    case TensorFile::Type::Int8:
+      return 1;
     case TensorFile::Type::UInt16:
     case TensorFile::Type::Int16:
-    case TensorFile::Type::Float16: return 2;
+    case TensorFile::Type::Float16:
+      return 2;
     case TensorFile::Type::UInt32:
     case TensorFile::Type::Int32:
-    case TensorFile::Type::Float32: return 4;
+    case TensorFile::Type::Float32:
+      return 4;
     case TensorFile::Type::UInt64:
     case TensorFile::Type::Int64:
-    case TensorFile::Type::Float64: return 8;
+    case TensorFile::Type::Float64:
+      return 8;
   }
   return 0;
 }
@@ -67,7 +71,7 @@ std::string shape_text(const std::vector<uint64_t>& shape, bool wildcards) {
 }  // namespace
 
 const char* type_name(TensorFile::Type type) {
-  static const char* names[] = {"invalid", "uint8", "int8",    "uint16",  "int16",  "uint32",
+  static const char* names[] = {"invalid", "uint8",  "int8",  "uint16",  "int16",   "uint32",
                                 "int32",   "uint64", "int64", "float16", "float32", "float64"};
   const auto index = static_cast<size_t>(type);
   return index < sizeof names / sizeof names[0] ? names[index] : "invalid";
@@ -139,8 +143,7 @@ const TensorFile::Field& TensorFile::field(const std::string& field_name, Type t
          present.empty() ? std::string("no fields") : fmt::format("{}", fmt::join(present, ", ")));
   }
   const Field& f = it->second;
-  if (f.type != type)
-    fail("{}: field '{}' is {}, expected {}", name_, field_name, type_name(f.type), type_name(type));
+  if (f.type != type) fail("{}: field '{}' is {}, expected {}", name_, field_name, type_name(f.type), type_name(type));
   if (f.shape.size() != rank)
     fail("{}: field '{}' has rank {} (shape {}), expected {}", name_, field_name, f.shape.size(),
          shape_text(f.shape, false), rank);

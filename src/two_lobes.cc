@@ -17,7 +17,8 @@ constexpr const char* kSuffix = "_2";
 // Direction pairs at which a component's structure is checked.
 const std::array<std::pair<Vec3, Vec3>, 4>& probe_pairs() {
   static const std::array<std::pair<Vec3, Vec3>, 4> pairs = {
-      std::pair{Vec3(0, 0, 1), Vec3(0, 0, 1)}, {Vec3(0.6, 0, 0.8), Vec3(-0.6, 0, 0.8)},
+      std::pair{Vec3(0, 0, 1), Vec3(0, 0, 1)},
+      {Vec3(0.6, 0, 0.8), Vec3(-0.6, 0, 0.8)},
       {Vec3(0.3, -0.2, 0.93).normalized(), Vec3(-0.5, 0.4, 0.6).normalized()},
       {Vec3(0.9, 0.1, 0.3).normalized(), Vec3(0.1, 0.8, 0.5).normalized()}};
   return pairs;
@@ -129,8 +130,7 @@ class TwoLobes final : public Model {
            colour_of(values) * kInvPi;
   }
 
-  Rgb<double> shade_with_jacobian(const double* values, const Vec3& l, const Vec3& v,
-                                  double* jacobian) const override {
+  Rgb<double> shade_with_jacobian(const double* values, const Vec3& l, const Vec3& v, double* jacobian) const override {
     const int n = num_values();
     std::fill_n(jacobian, 3 * n, 0.0);
     if (l.z() <= 0.0) return Rgb<double>::Zero();
@@ -164,7 +164,8 @@ class TwoLobes final : public Model {
     const int n = num_values(), m = lobes_[k]->num_values();
     for (int c = 0; c < 3; ++c)
       for (int i = 0; i < m; ++i)
-        if (map_[k][i] >= 0 && !(k == 1 && is_scaled_linear(i))) jacobian[c * n + map_[k][i]] += scale[c] * component[c * m + i];
+        if (map_[k][i] >= 0 && !(k == 1 && is_scaled_linear(i)))
+          jacobian[c * n + map_[k][i]] += scale[c] * component[c * m + i];
   }
 
   bool is_scaled_linear(int component_index) const {

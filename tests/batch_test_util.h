@@ -2,9 +2,9 @@
 // from a known model, and result documents with known numbers.
 #pragma once
 
-#include <nlohmann/json.hpp>
 #include <gtest/gtest.h>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <optional>
@@ -24,7 +24,9 @@ namespace brdffit::test {
 namespace fs = std::filesystem;
 
 // This process's scratch folder, removed when the test program ends.
-inline fs::path batch_scratch_root() { return fs::temp_directory_path() / ("brdffit-batch-tests-" + std::to_string(::getpid())); }
+inline fs::path batch_scratch_root() {
+  return fs::temp_directory_path() / ("brdffit-batch-tests-" + std::to_string(::getpid()));
+}
 
 class BatchScratchCleanup : public ::testing::Environment {
  public:
@@ -33,7 +35,8 @@ class BatchScratchCleanup : public ::testing::Environment {
     fs::remove_all(batch_scratch_root(), ignored);
   }
 };
-inline ::testing::Environment* const kBatchScratchCleanup = ::testing::AddGlobalTestEnvironment(new BatchScratchCleanup);
+inline ::testing::Environment* const kBatchScratchCleanup =
+    ::testing::AddGlobalTestEnvironment(new BatchScratchCleanup);
 
 // An empty folder for one test.
 inline std::string fresh_dir(const std::string& name) {
@@ -77,7 +80,8 @@ inline FitResult known_result(const std::string& model, double cosine, std::opti
 }
 
 // A result document for `input` holding the given results, written to `path`.
-inline std::string write_document(const std::string& path, const std::string& input, const std::vector<FitResult>& results) {
+inline std::string write_document(const std::string& path, const std::string& input,
+                                  const std::vector<FitResult>& results) {
   write_file_atomic(path, fit_document_json(input, SampleSet{}, FitOptions{}, results).dump(2));
   return path;
 }

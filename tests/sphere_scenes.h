@@ -98,8 +98,6 @@ inline SphereScene write_chrome_scene(const std::string& dir, const std::vector<
 }
 
 // Angle between two directions, degrees.
-inline double angle_deg(const Vec3& a, const Vec3& b) {
-  return std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / kPi;
-}
+inline double angle_deg(const Vec3& a, const Vec3& b) { return std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / kPi; }
 
 }  // namespace brdffit::test

@@ -59,11 +59,12 @@ inline std::string merl_proxy(const std::string& name) {
   if (!fs::exists(packed)) return "";
   const fs::path path = fs::path(test_data_dir()) / (name + ".binary");
   const uintmax_t merl_size = 12 + 3 * 90 * 90 * 180 * sizeof(double);
-  if (!fs::exists(path) || fs::file_size(path) != merl_size || fs::last_write_time(path) < fs::last_write_time(packed)) {
+  if (!fs::exists(path) || fs::file_size(path) != merl_size ||
+      fs::last_write_time(path) < fs::last_write_time(packed)) {
     // Decompress beside it and rename, so a concurrent test process never sees half a file.
     const std::string part = path.string() + ".part" + std::to_string(::getpid());
-    const CommandResult r = run_command("xz -dkc '" + packed.string() + "' > '" + part + "' && mv '" + part + "' '" +
-                                        path.string() + "'");
+    const CommandResult r =
+        run_command("xz -dkc '" + packed.string() + "' > '" + part + "' && mv '" + part + "' '" + path.string() + "'");
     EXPECT_EQ(r.exit_code, 0) << "decompressing " << packed << ": " << r.output;
   }
   return path.string();
@@ -115,7 +116,8 @@ std::string expect_error(Action&& action, const std::vector<std::string>& fragme
     action();
   } catch (const Error& e) {
     const std::string message = e.what();
-    for (const std::string& f : fragments) EXPECT_NE(message.find(f), std::string::npos) << "'" << f << "' not in: " << message;
+    for (const std::string& f : fragments)
+      EXPECT_NE(message.find(f), std::string::npos) << "'" << f << "' not in: " << message;
     return message;
   }
   ADD_FAILURE() << "expected an error mentioning '" << fragments.front() << "'";

@@ -80,8 +80,8 @@ inline TensorField bytes_field(const std::string& name, const std::string& bytes
 // (out of gamut).
 inline std::vector<TensorField> synthetic_rgl_fields(bool anisotropic) {
   const double pi = 3.14159265358979323846;
-  const std::vector<float> phi_i = anisotropic ? std::vector<float>{float(-pi), float(-pi / 3), float(pi / 3), float(pi)}
-                                               : std::vector<float>{0.0f};
+  const std::vector<float> phi_i =
+      anisotropic ? std::vector<float>{float(-pi), float(-pi / 3), float(pi / 3), float(pi)} : std::vector<float>{0.0f};
   const std::vector<float> theta_i = {0.0f, 0.35f, 0.8f, 1.2f, float(pi / 2)};
   const uint64_t np = phi_i.size(), nt = theta_i.size(), n_rgb = 24;
   using Index = std::vector<uint64_t>;

@@ -103,7 +103,8 @@ TEST(BatchCli, FitsEveryMaterialRecordsTheFailureAndSummarises) {
   EXPECT_LT(summary["materials"][2]["errors"]["ward"].get<double>(), 1e-6);
 
   const std::string csv = read_file(out + "/summary.csv");
-  EXPECT_EQ(csv.substr(0, csv.find('\n')), "material,input,status,resumed,error,best_model,best_error,seconds,ward,lambert");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "material,input,status,resumed,error,best_model,best_error,seconds,ward,lambert");
   EXPECT_NE(csv.find("\nbroken," + in + "/broken.csv,failed,no,"), std::string::npos) << csv;
   // blue is Lambertian, which ward also holds exactly (specular 0): either may rank first.
   EXPECT_NE(csv.find("\nblue," + in + "/blue.csv,ok,no,,"), std::string::npos) << csv;
@@ -144,12 +145,10 @@ TEST(BatchCli, ResumeSkipsMaterialsAlreadyDoneAndRetriesTheOthers) {
 
 TEST(BatchCli, BadOptionsFailBeforeAnyWork) {
   const std::string dir = test::fresh_dir("batch-bad"), in = write_batch_inputs(dir);
-  test::expect_cli_errors(
-      {
-          {"batch " + in + " --models nosuch --out " + dir + "/out", "unknown model 'nosuch'"},
-          {"batch " + in + " --metric nosuch --out " + dir + "/out", "unknown metric 'nosuch'"},
-          {"batch " + dir + "/nothing --out " + dir + "/out", "nothing: no such file or folder"}},
-      dir + "/out");
+  test::expect_cli_errors({{"batch " + in + " --models nosuch --out " + dir + "/out", "unknown model 'nosuch'"},
+                           {"batch " + in + " --metric nosuch --out " + dir + "/out", "unknown metric 'nosuch'"},
+                           {"batch " + dir + "/nothing --out " + dir + "/out", "nothing: no such file or folder"}},
+                          dir + "/out");
 }
 
 }  // namespace

@@ -79,8 +79,8 @@ TEST_F(BatchResume, ChangedSettingsAreFittedAgain) {
 TEST_F(BatchResume, UnreadableDocumentsAreFittedAgain) {
   ASSERT_EQ(run(options_).status, MaterialStatus::Ok);
   const std::string prior = read_file(document());
-  for (const std::string& corrupt : {std::string("{not json"), prior.substr(0, prior.size() / 2), std::string(),
-                                     std::string("{\"schema\": 1}")}) {
+  for (const std::string& corrupt :
+       {std::string("{not json"), prior.substr(0, prior.size() / 2), std::string(), std::string("{\"schema\": 1}")}) {
     SCOPED_TRACE(corrupt.substr(0, 40));
     write_file_atomic(document(), corrupt);
     const MaterialOutcome outcome = run(options_);

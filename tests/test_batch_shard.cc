@@ -31,11 +31,14 @@ TEST(BatchShard, ParsesExplicitSlurmAndKubernetesShards) {
   expect_shard(parse_shard("0/1", none), 0, 1);
   expect_shard(parse_shard("2/3", none), 2, 3);
   // Slurm arrays start anywhere and may step: --array=4-6 is tasks 4, 5, 6; --array=2-6:2 is 2, 4, 6.
-  expect_shard(parse_shard("auto", fake_environment({{"SLURM_ARRAY_TASK_ID", "5"}, {"SLURM_ARRAY_TASK_MIN", "4"},
+  expect_shard(parse_shard("auto", fake_environment({{"SLURM_ARRAY_TASK_ID", "5"},
+                                                     {"SLURM_ARRAY_TASK_MIN", "4"},
                                                      {"SLURM_ARRAY_TASK_COUNT", "3"}})),
                1, 3);
-  expect_shard(parse_shard("auto", fake_environment({{"SLURM_ARRAY_TASK_ID", "6"}, {"SLURM_ARRAY_TASK_MIN", "2"},
-                                                     {"SLURM_ARRAY_TASK_STEP", "2"}, {"SLURM_ARRAY_TASK_COUNT", "3"}})),
+  expect_shard(parse_shard("auto", fake_environment({{"SLURM_ARRAY_TASK_ID", "6"},
+                                                     {"SLURM_ARRAY_TASK_MIN", "2"},
+                                                     {"SLURM_ARRAY_TASK_STEP", "2"},
+                                                     {"SLURM_ARRAY_TASK_COUNT", "3"}})),
                2, 3);
   expect_shard(parse_shard("auto/4", fake_environment({{"JOB_COMPLETION_INDEX", "3"}})), 3, 4);
   expect_shard(parse_shard("auto/4", fake_environment({{"SLURM_ARRAY_TASK_ID", "1"}})), 1, 4);
@@ -44,8 +47,9 @@ TEST(BatchShard, ParsesExplicitSlurmAndKubernetesShards) {
 TEST(BatchShard, RejectsShardsThatDoNotExist) {
   const EnvironmentLookup none = fake_environment({});
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"3/3", "shard 3 does not exist among 3"}, {"1/0", "expected K/N"}, {"x/2", "K must be a whole number"},
-      {"2", "expected K/N"},                     {"-1/2", "K must be a whole number"}, {"auto", "SLURM_ARRAY_TASK_ID is not set"},
+      {"3/3", "shard 3 does not exist among 3"},   {"1/0", "expected K/N"},
+      {"x/2", "K must be a whole number"},         {"2", "expected K/N"},
+      {"-1/2", "K must be a whole number"},        {"auto", "SLURM_ARRAY_TASK_ID is not set"},
       {"auto/2", "SLURM_ARRAY_TASK_ID is not set"}};
   for (const auto& [text, message] : cases) {
     SCOPED_TRACE(text);
@@ -57,7 +61,8 @@ TEST(BatchShard, RejectsShardsThatDoNotExist) {
     }
   }
   EXPECT_THROW(parse_shard("auto/2", fake_environment({{"JOB_COMPLETION_INDEX", "2"}})), Error);
-  EXPECT_THROW(parse_shard("auto", fake_environment({{"SLURM_ARRAY_TASK_ID", "x"}, {"SLURM_ARRAY_TASK_COUNT", "2"}})), Error);
+  EXPECT_THROW(parse_shard("auto", fake_environment({{"SLURM_ARRAY_TASK_ID", "x"}, {"SLURM_ARRAY_TASK_COUNT", "2"}})),
+               Error);
 }
 
 std::vector<BatchMaterial> materials_of_sizes(const std::string& dir, const std::vector<size_t>& sizes) {
@@ -127,7 +132,9 @@ TEST(BatchShardCli, AShardThatDiedIsReportedByTheMergeAndRecoveredByResume) {
   const std::string batch = "batch " + in + " --models lambert --threads 1 --out " + out;
   // Shards 0 and 2 of 3 finish (2 from a Kubernetes Indexed Job's index); shard 1 never runs.
   ASSERT_EQ(test::run_cli(batch + " --shard 0/3").exit_code, 0);
-  ASSERT_EQ(test::run_command("JOB_COMPLETION_INDEX=2 " + std::string(BRDFFIT_CLI) + " " + batch + " --shard auto/3").exit_code, 0);
+  ASSERT_EQ(test::run_command("JOB_COMPLETION_INDEX=2 " + std::string(BRDFFIT_CLI) + " " + batch + " --shard auto/3")
+                .exit_code,
+            0);
   const auto incomplete = test::run_cli(batch + " --merge");
   EXPECT_EQ(incomplete.exit_code, 1) << incomplete.output;
   EXPECT_NE(incomplete.output.find("its shard did not finish it"), std::string::npos) << incomplete.output;
@@ -155,7 +162,8 @@ TEST(BatchShardCli, ShardsShareTheFolderButNoShardRunsTwice) {
   EXPECT_EQ(other.exit_code, 0) << other.output;
   const auto same = test::run_cli(batch + " --shard 0/2");
   EXPECT_NE(same.exit_code, 0);
-  EXPECT_NE(same.output.find("another batch (pid " + std::to_string(::getpid()) + ")"), std::string::npos) << same.output;
+  EXPECT_NE(same.output.find("another batch (pid " + std::to_string(::getpid()) + ")"), std::string::npos)
+      << same.output;
   EXPECT_FALSE(fs::exists(out + "/" + shard_lock_name({1, 2})));  // released when shard 1 ended
 }
 
@@ -171,11 +179,12 @@ TEST(BatchShardCli, MergeAndShardExcludeEachOther) {
 TEST(ClusterDocs, SbatchScriptRunsAsThreeArrayTasksAndAMerge) {
   const std::string dir = test::fresh_dir("shard-sbatch"), in = test::write_shard_inputs(dir), out = dir + "/out";
   const std::string script = std::string(BRDFFIT_SOURCE_DIR) + "/docs/cluster/brdffit-array.sbatch";
-  const std::string environment = fmt::format("BRDFFIT={} INPUTS={} OUT={} MODELS=lambert SLURM_CPUS_PER_TASK=1 ",
-                                              BRDFFIT_CLI, in, out);
+  const std::string environment =
+      fmt::format("BRDFFIT={} INPUTS={} OUT={} MODELS=lambert SLURM_CPUS_PER_TASK=1 ", BRDFFIT_CLI, in, out);
   for (int task = 0; task < 3; ++task) {
     const auto r = test::run_command(environment + fmt::format("SLURM_ARRAY_TASK_ID={} SLURM_ARRAY_TASK_MIN=0 "
-                                                               "SLURM_ARRAY_TASK_COUNT=3 bash {}", task, script));
+                                                               "SLURM_ARRAY_TASK_COUNT=3 bash {}",
+                                                               task, script));
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_NE(r.output.find(fmt::format("shard {}/3", task)), std::string::npos) << r.output;
   }
@@ -188,7 +197,8 @@ TEST(ClusterDocs, SbatchScriptRunsAsThreeArrayTasksAndAMerge) {
 // names the same inputs, models and folder.
 TEST(ClusterDocs, IndexedJobShardsMatchItsCompletionsAndTheMerge) {
   const std::string dir = std::string(BRDFFIT_SOURCE_DIR) + "/docs/cluster/";
-  const std::string job = read_file(dir + "brdffit-indexed-job.yaml"), merge = read_file(dir + "brdffit-merge-job.yaml");
+  const std::string job = read_file(dir + "brdffit-indexed-job.yaml"),
+                    merge = read_file(dir + "brdffit-merge-job.yaml");
   const size_t completions = job.find("completions: ");
   ASSERT_NE(completions, std::string::npos);
   const std::string n = job.substr(completions + 13, job.find_first_of(" \n", completions + 13) - completions - 13);

@@ -78,7 +78,8 @@ TEST(Capture, SeveralExposuresMergeIntoRadianceProportionalToTheScene) {
   std::vector<float> ratios;
   for (int y = 0; y < radiance.rows; ++y)
     for (int x = 0; x < radiance.cols; ++x)
-      for (int c = 0; c < 3; ++c) ratios.push_back(result.image.at<cv::Vec3f>(y, x)[c] / radiance.at<cv::Vec3f>(y, x)[c]);
+      for (int c = 0; c < 3; ++c)
+        ratios.push_back(result.image.at<cv::Vec3f>(y, x)[c] / radiance.at<cv::Vec3f>(y, x)[c]);
   std::sort(ratios.begin(), ratios.end());
   const float median = ratios[ratios.size() / 2];
   ASSERT_GT(median, 0.0f);
@@ -108,10 +109,9 @@ TEST(CaptureCli, BadSourcesAreClearErrors) {
   const std::string dir = capture_dir("bad");
   write_exposures(dir, scene_radiance(), {0.5, 5.0});
   test::expect_cli_errors(
-      {
-          {"capture " + dir + "/nothing_%02d.png --out " + dir + "/x.exr", "nothing_%02d.png: cannot open"},
-          {"capture " + dir + "/frame_%02d.png --exposures 0.5,5,50 --out " + dir + "/x.exr", "ran out of frames after 2"},
-          {"capture " + dir + "/frame_%02d.png --exposures 0.5,-5 --out " + dir + "/x.exr", "must be positive"}},
+      {{"capture " + dir + "/nothing_%02d.png --out " + dir + "/x.exr", "nothing_%02d.png: cannot open"},
+       {"capture " + dir + "/frame_%02d.png --exposures 0.5,5,50 --out " + dir + "/x.exr", "ran out of frames after 2"},
+       {"capture " + dir + "/frame_%02d.png --exposures 0.5,-5 --out " + dir + "/x.exr", "must be positive"}},
       dir + "/x.exr");
 }
 

@@ -14,22 +14,27 @@ namespace {
 //   m2: ward 0.2 (1), ggx 0.2 (1), lambert 0.4 (3)
 //   m3: ggx 0.1 (1), lambert 0.5 (2), ward failed (3)
 std::string write_known_documents(const std::string& dir) {
-  test::write_document(dir + "/m1.json", "/data/m1.binary",
-                       {test::known_result("lambert", 0.3), test::known_result("ward", 0.1), test::known_result("ggx", 0.2)});
-  test::write_document(dir + "/m2.json", "/data/m2.binary",
-                       {test::known_result("lambert", 0.4), test::known_result("ward", 0.2), test::known_result("ggx", 0.2)});
-  test::write_document(dir + "/m3.json", "/data/m3.binary",
-                       {test::known_result("lambert", 0.5), test::known_result("ward", NAN), test::known_result("ggx", 0.1)});
+  test::write_document(
+      dir + "/m1.json", "/data/m1.binary",
+      {test::known_result("lambert", 0.3), test::known_result("ward", 0.1), test::known_result("ggx", 0.2)});
+  test::write_document(
+      dir + "/m2.json", "/data/m2.binary",
+      {test::known_result("lambert", 0.4), test::known_result("ward", 0.2), test::known_result("ggx", 0.2)});
+  test::write_document(
+      dir + "/m3.json", "/data/m3.binary",
+      {test::known_result("lambert", 0.5), test::known_result("ward", NAN), test::known_result("ggx", 0.1)});
   write_file_atomic(dir + "/summary.json", "{\"not\": \"a result\"}");  // a batch's summary is skipped in folders
   return dir;
 }
 
 std::vector<FitDocument> read_known(const std::string& dir) {
-  return {read_fit_document(dir + "/m1.json"), read_fit_document(dir + "/m2.json"), read_fit_document(dir + "/m3.json")};
+  return {read_fit_document(dir + "/m1.json"), read_fit_document(dir + "/m2.json"),
+          read_fit_document(dir + "/m3.json")};
 }
 
 TEST(Compare, RanksEachMaterialWithTiesAndFailures) {
-  const Comparison c = compare_results(read_known(write_known_documents(test::fresh_dir("compare-ranks"))), Metric::Cosine);
+  const Comparison c =
+      compare_results(read_known(write_known_documents(test::fresh_dir("compare-ranks"))), Metric::Cosine);
   ASSERT_EQ(c.materials.size(), 3u);
   EXPECT_EQ(c.materials[0].material, "m1");
   const auto ranks = [](const MaterialRanking& m) {
@@ -45,7 +50,8 @@ TEST(Compare, RanksEachMaterialWithTiesAndFailures) {
 }
 
 TEST(Compare, SummarisesEachModelOverTheSet) {
-  const Comparison c = compare_results(read_known(write_known_documents(test::fresh_dir("compare-summary"))), Metric::Cosine);
+  const Comparison c =
+      compare_results(read_known(write_known_documents(test::fresh_dir("compare-summary"))), Metric::Cosine);
   ASSERT_EQ(c.models.size(), 3u);
   // Ordered by mean rank: ggx (2+1+1)/3, ward (1+1+3)/3, lambert (3+3+2)/3.
   const ModelSummary &ggx = c.models[0], &ward = c.models[1], &lambert = c.models[2];
@@ -74,8 +80,8 @@ TEST(Compare, NamesMaterialsThatShareAFileNameByTheirDocument) {
   const std::string dir = test::fresh_dir("compare-names");
   test::write_document(dir + "/first.json", "/a/paint.binary", {test::known_result("lambert", 0.1)});
   test::write_document(dir + "/second.json", "/b/paint.binary", {test::known_result("lambert", 0.2)});
-  const Comparison c =
-      compare_results({read_fit_document(dir + "/first.json"), read_fit_document(dir + "/second.json")}, Metric::Cosine);
+  const Comparison c = compare_results(
+      {read_fit_document(dir + "/first.json"), read_fit_document(dir + "/second.json")}, Metric::Cosine);
   EXPECT_EQ(c.materials[0].material, "first");
   EXPECT_EQ(c.materials[1].material, "second");
 }
@@ -88,7 +94,8 @@ TEST(CompareCli, PrintsAndWritesCsvAndMarkdown) {
   EXPECT_NE(r.output.find("m2:  1. ward 0.2  1. ggx 0.2  3. lambert 0.4"), std::string::npos) << r.output;
 
   const std::string csv = read_file(dir + "/c.csv");
-  EXPECT_EQ(csv.substr(0, csv.find('\n')), "model,fitted,poor,failed,mean,median,mean_rank,wins,m1,m1 rank,m2,m2 rank,m3,m3 rank");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "model,fitted,poor,failed,mean,median,mean_rank,wins,m1,m1 rank,m2,m2 rank,m3,m3 rank");
   EXPECT_NE(csv.find("\nggx,3,0,0,0.166666667,0.2,1.33333,2,0.2,2,0.2,1,0.1,1\n"), std::string::npos) << csv;
   EXPECT_NE(csv.find("\nward,2,0,1,0.15,0.15,1.66667,2,0.1,1,0.2,1,,3\n"), std::string::npos) << csv;
 

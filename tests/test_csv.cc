@@ -27,10 +27,10 @@ TEST(Csv, ReadsAnglesInDegreesOrRadiansAndStoresFCosThetaI) {
   EXPECT_NEAR(s.value[0], 0.2 * 0.5, 1e-12);  // f·cosθi
   EXPECT_NEAR(s.value[2], 0.4 * 0.5, 1e-12);
   EXPECT_EQ(s.weight, 1.0);
-  const SampleSet radians =
-      parse_csv_samples("#unit:radians\ntheta_i,phi_i,theta_o,phi_o,r,g,b,weight\n1.0471975511965976,0,0.5235987755982988,"
-                        "3.141592653589793,0.2,0.3,0.4,2.5\n",
-                        "r.csv");
+  const SampleSet radians = parse_csv_samples(
+      "#unit:radians\ntheta_i,phi_i,theta_o,phi_o,r,g,b,weight\n1.0471975511965976,0,0.5235987755982988,"
+      "3.141592653589793,0.2,0.3,0.4,2.5\n",
+      "r.csv");
   ASSERT_EQ(radians.size(), 1u);
   EXPECT_LT((radians.samples[0].l - s.l).norm(), 1e-12);
   EXPECT_LT((radians.samples[0].v - s.v).norm(), 1e-12);
@@ -58,7 +58,8 @@ TEST(Csv, ReadsDirectionVectorsWithOptionalWeights) {
 
 TEST(Csv, WritingAndReadingGivesTheSameSamples) {
   SampleSet set;
-  set.samples.push_back({Vec3(0.1, 0.2, 0.3).normalized(), Vec3(-0.3, 0.1, 0.9).normalized(), Rgb<double>(0.1, 1.0 / 3, 2e-9), 0.7});
+  set.samples.push_back(
+      {Vec3(0.1, 0.2, 0.3).normalized(), Vec3(-0.3, 0.1, 0.9).normalized(), Rgb<double>(0.1, 1.0 / 3, 2e-9), 0.7});
   set.samples.push_back({Vec3(0, 0, 1), Vec3(0.6, 0, 0.8), Rgb<double>(5, 6, 7), 1});
   const SampleSet again = parse_csv_samples(format_csv_samples(set), "again.csv");
   ASSERT_EQ(again.size(), set.size());
@@ -66,7 +67,8 @@ TEST(Csv, WritingAndReadingGivesTheSameSamples) {
     // Directions are renormalised when read and f·cosθi recomputed: equal to rounding.
     EXPECT_LT((again.samples[i].l - set.samples[i].l).norm(), 1e-15);
     EXPECT_LT((again.samples[i].v - set.samples[i].v).norm(), 1e-15);
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(again.samples[i].value[c], set.samples[i].value[c], 1e-15 * set.samples[i].value[c]);
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(again.samples[i].value[c], set.samples[i].value[c], 1e-15 * set.samples[i].value[c]);
     EXPECT_EQ(again.samples[i].weight, set.samples[i].weight);
   }
 }
@@ -98,7 +100,8 @@ TEST(Csv, RejectsMalformedInputNamingFileLineAndProblem) {
   expect_error([] { parse_csv_samples("a,b,c\n", "h.csv"); }, {"h.csv:1", "unrecognised header 'a,b,c'"});
   expect_error([] { parse_csv_samples("lx,ly,lz,vx,vy,vz,r,g\n", "h2.csv"); }, {"h2.csv:1", "unrecognised header"});
   expect_error([] { parse_csv_samples("lx,ly,lz,vx,vy,vz,r,g,b,w\n", "h3.csv"); }, {"h3.csv:1", "unrecognised header"});
-  expect_error([] { parse_csv_samples("theta_i,phi_i,theta_o,phi_o,r,g,b\n", "u.csv"); }, {"u.csv:1", "'# unit: degrees'"});
+  expect_error([] { parse_csv_samples("theta_i,phi_i,theta_o,phi_o,r,g,b\n", "u.csv"); },
+               {"u.csv:1", "'# unit: degrees'"});
   expect_error([] { parse_csv_samples("# unit: gradians\ntheta_i,phi_i,theta_o,phi_o,r,g,b\n", "g.csv"); },
                {"g.csv:1", "unknown angle unit 'gradians'"});
   expect_error([&] { parse_csv_samples(v + "0,0,1,0,0,1,1,1\n", "n.csv"); }, {"n.csv:2", "8 fields, the header has 9"});
@@ -113,11 +116,13 @@ TEST(Csv, RejectsMalformedInputNamingFileLineAndProblem) {
   expect_error([&] { parse_csv_samples(v + "0,0,1,0,0,1,1,1,1\n0,0,-1,0,0,1,1,1,1\n", "b.csv"); },
                {"b.csv:3", "below the horizon"});
   expect_error([&] { parse_csv_samples(v + "0,0,0,0,0,1,1,1,1\n", "z.csv"); }, {"z.csv:2", "zero vector"});
-  expect_error([&] { parse_csv_samples(v + "0,0,1,0,0,1,1,-0.1,1\n", "neg.csv"); }, {"neg.csv:2", "negative reflectance"});
+  expect_error([&] { parse_csv_samples(v + "0,0,1,0,0,1,1,-0.1,1\n", "neg.csv"); },
+               {"neg.csv:2", "negative reflectance"});
   expect_error([] { parse_csv_samples("lx,ly,lz,vx,vy,vz,r,g,b,weight\n0,0,1,0,0,1,1,1,1,-2\n", "w.csv"); },
                {"w.csv:2", "negative weight"});
-  expect_error([] { parse_csv_samples("# unit: degrees\ntheta_i,phi_i,theta_o,phi_o,r,g,b\n95,0,30,0,1,1,1\n", "a.csv"); },
-               {"a.csv:3", "below the horizon"});
+  expect_error(
+      [] { parse_csv_samples("# unit: degrees\ntheta_i,phi_i,theta_o,phi_o,r,g,b\n95,0,30,0,1,1,1\n", "a.csv"); },
+      {"a.csv:3", "below the horizon"});
   expect_error([&] { parse_csv_samples(v, "none.csv"); }, {"none.csv", "no samples after the header"});
   expect_error([] { load_samples("/nonexistent/x.csv", SamplingOptions{}); }, {"/nonexistent/x.csv", "cannot open"});
 }

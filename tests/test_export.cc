@@ -71,22 +71,23 @@ FitResult fit_of(const std::string& model, const std::vector<std::string>& assig
 bool have_tool(const std::string& name) { return test::run_command("command -v " + name).exit_code == 0; }
 
 // Skips (outside CI) or fails (CI=true) when an ecosystem's checking tool is missing.
-#define REQUIRE_TOOL(available, what)                                                                      \
-  do {                                                                                                     \
-    if (!(available)) {                                                                                    \
-      const char* ci = std::getenv("CI");                                                                  \
+#define REQUIRE_TOOL(available, what)                                                                             \
+  do {                                                                                                            \
+    if (!(available)) {                                                                                           \
+      const char* ci = std::getenv("CI");                                                                         \
       if (ci && std::string(ci) == "true") FAIL() << what << " is missing (scripts/install-deps.sh installs it)"; \
-      GTEST_SKIP() << what << " is not installed (scripts/install-deps.sh installs it)";                  \
-    }                                                                                                      \
+      GTEST_SKIP() << what << " is not installed (scripts/install-deps.sh installs it)";                          \
+    }                                                                                                             \
   } while (0)
 
-const std::vector<std::string> kGltfSpecular = {"baseColor=0.8,0.5,0.25", "metallic=0.3",     "roughness=0.45",
-                                                "ior=1.7",                "specular=0.8",     "specularColor=1,0.9,0.7"};
-const std::vector<std::string> kOpenPbr = {"base_color=0.7,0.4,0.2",  "base_metalness=0.2", "base_diffuse_roughness=0.3",
-                                           "specular_color=1,0.8,0.6", "specular_roughness=0.35", "specular_ior=1.6"};
-const std::vector<std::string> kPrincipled = {"baseColor=0.6,0.3,0.1", "metallic=0.1",    "subsurface=0.2",
-                                              "specular=0.6",          "roughness=0.4",   "specularTint=0.3",
-                                              "sheen=0.25",            "clearcoat=0.5",   "clearcoatGloss=0.7"};
+const std::vector<std::string> kGltfSpecular = {
+    "baseColor=0.8,0.5,0.25", "metallic=0.3", "roughness=0.45", "ior=1.7", "specular=0.8", "specularColor=1,0.9,0.7"};
+const std::vector<std::string> kOpenPbr = {"base_color=0.7,0.4,0.2",     "base_metalness=0.2",
+                                           "base_diffuse_roughness=0.3", "specular_color=1,0.8,0.6",
+                                           "specular_roughness=0.35",    "specular_ior=1.6"};
+const std::vector<std::string> kPrincipled = {
+    "baseColor=0.6,0.3,0.1", "metallic=0.1", "subsurface=0.2", "specular=0.6",      "roughness=0.4",
+    "specularTint=0.3",      "sheen=0.25",   "clearcoat=0.5",  "clearcoatGloss=0.7"};
 
 // Writes `doc` in `format`, reads the file back and expects the model's values (to `tolerance`).
 void expect_round_trip(const std::string& doc, const std::string& out, const std::string& model,
@@ -106,12 +107,11 @@ void expect_round_trip(const std::string& doc, const std::string& out, const std
 
 TEST(ExportCli, EachFormatWritesItsModelsFitUnchangedAndReadsBack) {
   const std::string dir = test::fresh_dir("export-round-trip");
-  const std::string doc =
-      test::write_document(dir + "/gold.json", "/data/gold.binary",
-                           {fit_of("ggx", {"albedo=0.1", "roughness=0.3", "f0=0.9,0.6,0.3"}),
-                            fit_of("gltf", {"baseColor=0.9,0.6,0.3", "metallic=0.85", "roughness=0.3"}),
-                            fit_of("gltf-specular", kGltfSpecular), fit_of("openpbr", kOpenPbr),
-                            fit_of("principled", kPrincipled)});
+  const std::string doc = test::write_document(
+      dir + "/gold.json", "/data/gold.binary",
+      {fit_of("ggx", {"albedo=0.1", "roughness=0.3", "f0=0.9,0.6,0.3"}),
+       fit_of("gltf", {"baseColor=0.9,0.6,0.3", "metallic=0.85", "roughness=0.3"}),
+       fit_of("gltf-specular", kGltfSpecular), fit_of("openpbr", kOpenPbr), fit_of("principled", kPrincipled)});
   // glTF: core by default (what most viewers read), the KHR extensions from the gltf-specular fit.
   expect_round_trip(doc, dir + "/gold.gltf", "gltf", {"baseColor=0.9,0.6,0.3", "metallic=0.85", "roughness=0.3"}, 0.0);
   const nlohmann::json core = nlohmann::json::parse(read_file(dir + "/gold.gltf"));
@@ -133,14 +133,16 @@ TEST(ExportCli, EachFormatWritesItsModelsFitUnchangedAndReadsBack) {
 TEST(ExportCli, ConvertsAnotherFitAndReportsTheConvertedError) {
   const std::string dir = test::fresh_dir("export-convert");
   // Data from a gltf material: its ggx fit converted back to gltf is close, and both errors are printed.
-  const std::string data = test::write_model_csv(dir + "/plastic.csv", "gltf", {"baseColor=0.6,0.3,0.2", "metallic=0", "roughness=0.5"});
+  const std::string data =
+      test::write_model_csv(dir + "/plastic.csv", "gltf", {"baseColor=0.6,0.3,0.2", "metallic=0", "roughness=0.5"});
   const std::string doc = test::write_document(dir + "/plastic.json", data,
                                                {fit_of("ggx", {"albedo=0.55,0.28,0.18", "roughness=0.5", "f0=0.04"})});
   const auto run = test::run_cli("export " + doc + " --model ggx --out " + dir + "/plastic.gltf");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const std::smatch m = [&] {
     std::smatch match;
-    std::regex_search(run.output, match, std::regex("converted from the ggx fit .*converted ([0-9.e-]+), the ggx fit ([0-9.e-]+)"));
+    std::regex_search(run.output, match,
+                      std::regex("converted from the ggx fit .*converted ([0-9.e-]+), the ggx fit ([0-9.e-]+)"));
     return match;
   }();
   ASSERT_EQ(m.size(), 3u) << run.output;
@@ -193,13 +195,27 @@ TEST(ExportCli, RefusesPoorOrFailedVerdictsWithoutForce) {
 // The input names of OpenPBR Surface (specification's parameter reference) and of Mitsuba 3's
 // principled plugin.
 const std::set<std::string> kOpenPbrInputs = {
-    "base_weight", "base_color", "base_metalness", "base_diffuse_roughness", "specular_weight", "specular_color",
-    "specular_roughness", "specular_roughness_anisotropy", "specular_ior", "transmission_weight", "coat_weight",
-    "fuzz_weight", "thin_film_weight", "emission_luminance", "geometry_opacity", "subsurface_weight"};
-const std::set<std::string> kMitsubaPrincipled = {
-    "base_color", "roughness", "anisotropic", "metallic", "spec_trans", "eta", "specular", "spec_tint", "sheen",
-    "sheen_tint", "flatness", "clearcoat", "clearcoat_gloss", "diffuse_reflectance_sampling_rate",
-    "specular_reflectance_sampling_rate", "spec_trans_sampling_rate", "diffuse_transmittance_sampling_rate"};
+    "base_weight",      "base_color",          "base_metalness",     "base_diffuse_roughness",
+    "specular_weight",  "specular_color",      "specular_roughness", "specular_roughness_anisotropy",
+    "specular_ior",     "transmission_weight", "coat_weight",        "fuzz_weight",
+    "thin_film_weight", "emission_luminance",  "geometry_opacity",   "subsurface_weight"};
+const std::set<std::string> kMitsubaPrincipled = {"base_color",
+                                                  "roughness",
+                                                  "anisotropic",
+                                                  "metallic",
+                                                  "spec_trans",
+                                                  "eta",
+                                                  "specular",
+                                                  "spec_tint",
+                                                  "sheen",
+                                                  "sheen_tint",
+                                                  "flatness",
+                                                  "clearcoat",
+                                                  "clearcoat_gloss",
+                                                  "diffuse_reflectance_sampling_rate",
+                                                  "specular_reflectance_sampling_rate",
+                                                  "spec_trans_sampling_rate",
+                                                  "diffuse_transmittance_sampling_rate"};
 
 std::set<std::string> names_in(const std::string& text, const std::string& element) {
   std::set<std::string> names;
@@ -241,9 +257,10 @@ TEST(ExportTools, KhronosValidatorFindsNothing) {
   REQUIRE_TOOL(have_tool("node") && std::filesystem::exists(module_dir + "/gltf-validator"),
                "node with the npm package gltf-validator");
   const std::string dir = test::fresh_dir("export-validator");
-  const std::string doc = test::write_document(dir + "/hostile.json", kHostileInput,
-                                               {fit_of("gltf", {"baseColor=0.9,0.6,0.3", "metallic=1", "roughness=0.3"}),
-                                                fit_of("gltf-specular", kGltfSpecular)});
+  const std::string doc =
+      test::write_document(dir + "/hostile.json", kHostileInput,
+                           {fit_of("gltf", {"baseColor=0.9,0.6,0.3", "metallic=1", "roughness=0.3"}),
+                            fit_of("gltf-specular", kGltfSpecular)});
   for (const std::string model : {"gltf", "gltf-specular"}) {
     const std::string out = dir + "/" + model + ".gltf";
     const auto run = test::run_cli("export " + doc + " --model " + model + " --out " + out);
@@ -275,17 +292,20 @@ TEST(ScoreCli, ScoresAMaterialFromAnAsset) {
   ASSERT_EQ(rough.exit_code, 0) << rough.output;
   EXPECT_GT(nlohmann::json::parse(rough.output)["metrics"]["cosine"].get<double>(), 0.01) << rough.output;
   // Scored as another model: converted, with a warning.
-  const auto converted = test::run_cli("score " + data + " --material " + dir + "/two.gltf --name exact --model openpbr");
+  const auto converted =
+      test::run_cli("score " + data + " --material " + dir + "/two.gltf --name exact --model openpbr");
   ASSERT_EQ(converted.exit_code, 0) << converted.output;
   EXPECT_NE(converted.output.find("scored converted to openpbr"), std::string::npos) << converted.output;
-  test::expect_cli_errors(
-      {{"score " + data + " --material " + dir + "/two.gltf", "two.gltf: holds 2 materials (exact, other): choose one with --name"},
-       {"score " + data + " --material " + dir + "/two.gltf --name none", "two.gltf: has no material 'none' (it has: exact, other)"},
-       {"score " + data + " --material " + data, "m.csv: a material is read from .gltf, .mtlx"},
-       {"score " + data, "give --model (with --param) or --material"}},
-      dir + "/nothing");
+  test::expect_cli_errors({{"score " + data + " --material " + dir + "/two.gltf",
+                            "two.gltf: holds 2 materials (exact, other): choose one with --name"},
+                           {"score " + data + " --material " + dir + "/two.gltf --name none",
+                            "two.gltf: has no material 'none' (it has: exact, other)"},
+                           {"score " + data + " --material " + data, "m.csv: a material is read from .gltf, .mtlx"},
+                           {"score " + data, "give --model (with --param) or --material"}},
+                          dir + "/nothing");
   write_file_atomic(dir + "/broken.mtlx", "<materialx><open_pbr_surface name=\"a\"></materialx>");
-  test::expect_cli_errors({{"score " + data + " --material " + dir + "/broken.mtlx", "broken.mtlx: malformed XML"}}, dir + "/nothing");
+  test::expect_cli_errors({{"score " + data + " --material " + dir + "/broken.mtlx", "broken.mtlx: malformed XML"}},
+                          dir + "/nothing");
 }
 
 }  // namespace

@@ -28,7 +28,8 @@ std::vector<double> truth_for(const Model& model) {
   for (const ParamSpec& p : model.parameters())
     for (int c = 0, k = index++; c < p.channels; ++c) {
       const double t = 0.35 + 0.15 * c + (p.channels == 1 && k % 2 ? 0.1 : 0.0);  // distinct colours per channel
-      double x = p.spacing == Spacing::Log ? p.lower * std::pow(p.upper / p.lower, t) : p.lower + t * (p.upper - p.lower);
+      double x =
+          p.spacing == Spacing::Log ? p.lower * std::pow(p.upper / p.lower, t) : p.lower + t * (p.upper - p.lower);
       if (p.integer) x = std::round(x);
       values.push_back(x);
     }
@@ -46,8 +47,8 @@ std::vector<double> recovery_truth(const Model& model) {
       {"low-smooth", {"A=3,4,5"}},
       {"low-microfacet", {"A=3,4,5"}},
       {"sgd",
-       {"specular=0.3,0.4,0.5", "alpha=0.04,0.05,0.06", "p=0.6,0.7,0.8", "f0=0.2,0.25,0.3", "f1=0.1,0.1,0.1", "K=10,10,10",
-        "lambda=1.5,1.5,1.5", "c=0.3,0.3,0.3", "k=3,3,3", "theta0=0.4,0.4,0.4"}}};
+       {"specular=0.3,0.4,0.5", "alpha=0.04,0.05,0.06", "p=0.6,0.7,0.8", "f0=0.2,0.25,0.3", "f1=0.1,0.1,0.1",
+        "K=10,10,10", "lambda=1.5,1.5,1.5", "c=0.3,0.3,0.3", "k=3,3,3", "theta0=0.4,0.4,0.4"}}};
   const auto it = overrides.find(model.name());
   if (it == overrides.end()) return values;
   const std::vector<double> overridden = parameter_values(model, it->second);
@@ -128,7 +129,7 @@ namespace {
 struct TradeOffCase {
   const char* model;
   std::vector<std::string> not_identifiable;
-  double max_relative_error;  // on fresh noise-free directions
+  double max_relative_error;    // on fresh noise-free directions
   double max_error_over_truth;  // the fit's error over the truth's, on the fitted samples
   friend void PrintTo(const TradeOffCase& test, std::ostream* out) { *out << test.model; }
 };
@@ -257,7 +258,8 @@ TEST(Fit, PerChannelShapeParameters) {
   for (int i = 0; i < 4000; ++i) {
     Sample s{test::random_upper_direction(rng, 0.05), test::random_upper_direction(rng, 0.05), {}, 1.0};
     for (int c = 0; c < 3; ++c) {
-      const std::vector<double> v = parameter_values(ggx, {"albedo=0.2", "f0=0.3", fmt::format("roughness={}", roughness[c])});
+      const std::vector<double> v =
+          parameter_values(ggx, {"albedo=0.2", "f0=0.3", fmt::format("roughness={}", roughness[c])});
       s.value[c] = ggx.shade(v.data(), s.l, s.v)[c];
     }
     data.samples.push_back(s);

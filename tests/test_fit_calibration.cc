@@ -41,7 +41,8 @@ TEST(FitCalibration, ReportedStddevMatchesTheSpreadOverNoiseDraws) {
   // 0.97 to 1.12, mean 1.02). An inflated or deflated covariance (a factor 2 in σ², a missing ½
   // of Ceres' cost, wrong degrees of freedom) moves every ratio by the same factor.
   const Model& ward = *find_model("ward");
-  const std::vector<double> truth = parameter_values(ward, {"albedo=0.3,0.2,0.1", "specular=0.08,0.1,0.12", "alpha=0.2"});
+  const std::vector<double> truth =
+      parameter_values(ward, {"albedo=0.3,0.2,0.1", "specular=0.08,0.1,0.12", "alpha=0.2"});
   const int draws = 200;
   const size_t values = truth.size();
   std::vector<std::vector<double>> estimates(values), reported(values);
@@ -149,8 +150,8 @@ TEST(BatchCost, CompressionIsExact) {
   // Roughness and f0's blue held fixed: the block holds only the other five values.
   const std::vector<int> free = {0, 1, 2, 4, 5};
   ceres::HuberLoss huber(0.01);
-  for (const ceres::LossFunction* loss : {static_cast<const ceres::LossFunction*>(nullptr),
-                                          static_cast<const ceres::LossFunction*>(&huber)}) {
+  for (const ceres::LossFunction* loss :
+       {static_cast<const ceres::LossFunction*>(nullptr), static_cast<const ceres::LossFunction*>(&huber)}) {
     SCOPED_TRACE(loss ? "Huber loss" : "no loss");
     ResidualBatch batch;
     batch.samples = samples.data();
@@ -180,8 +181,8 @@ TEST(BatchCost, CompressionIsExact) {
     const Eigen::VectorXd y = residuals.head(F);
     EXPECT_TRUE(jacobian.row(F).isZero(0.0));
     EXPECT_LT((r.transpose() * r - jtj).norm(), 1e-6 * jtj.norm()) << "RᵀR\n" << r.transpose() * r << "\nJᵀJ\n" << jtj;
-    EXPECT_LT((r.transpose() * y - jtr).norm(), 1e-6 * jtr.norm()) << "Rᵀy " << (r.transpose() * y).transpose()
-                                                                  << "\nJᵀr " << jtr.transpose();
+    EXPECT_LT((r.transpose() * y - jtr).norm(), 1e-6 * jtr.norm())
+        << "Rᵀy " << (r.transpose() * y).transpose() << "\nJᵀr " << jtr.transpose();
     ASSERT_GT(jtr.norm(), 0.0);
     // The cost: ‖y‖² + e² = ‖r‖², with the Jacobian and without.
     EXPECT_NEAR(residuals.squaredNorm(), plain.r.squaredNorm(), 1e-12 * plain.r.squaredNorm());

@@ -38,7 +38,8 @@ std::string ward_csv(const std::string& dir) {
 
 TEST(FitCli, WritesTheResultDocumentAndCsv) {
   const std::string dir = temp_dir(), data = ward_csv(dir);
-  const auto r = test::run_cli("fit " + data + " --models ward,lambert --out " + dir + "/r.json --csv " + dir + "/r.csv");
+  const auto r =
+      test::run_cli("fit " + data + " --models ward,lambert --out " + dir + "/r.json --csv " + dir + "/r.csv");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("ranked by the cosine metric"), std::string::npos);
   const nlohmann::json doc = nlohmann::json::parse(read_file(dir + "/r.json"));
@@ -56,7 +57,8 @@ TEST(FitCli, WritesTheResultDocumentAndCsv) {
   EXPECT_NEAR(ward["parameters"]["alpha"]["value"].get<double>(), 0.15, 1e-6);
   EXPECT_NEAR(ward["parameters"]["albedo"]["value"][1].get<double>(), 0.2, 1e-6);
   EXPECT_TRUE(ward["parameters"]["alpha"]["stddev"].is_number());
-  for (const char* metric : {"cosine", "log", "relative", "l2", "max"}) EXPECT_TRUE(ward["metrics"][metric].is_number());
+  for (const char* metric : {"cosine", "log", "relative", "l2", "max"})
+    EXPECT_TRUE(ward["metrics"][metric].is_number());
   EXPECT_LT(ward["metrics"]["cosine"].get<double>(), 1e-6);
   EXPECT_GT(doc["models"][1]["metrics"]["cosine"].get<double>(), 1e-3);  // Lambert cannot fit Ward
   const std::string csv = read_file(dir + "/r.csv");
@@ -64,7 +66,8 @@ TEST(FitCli, WritesTheResultDocumentAndCsv) {
   EXPECT_NE(csv.find("\nward,ok,good,"), std::string::npos);
 
   // score agrees with the fitted metrics.
-  const auto score = test::run_cli("score " + data + " --model ward --param albedo=0.3,0.2,0.1 --param specular=0.1 "
+  const auto score = test::run_cli("score " + data +
+                                   " --model ward --param albedo=0.3,0.2,0.1 --param specular=0.1 "
                                    "--param alpha=0.15 --json");
   ASSERT_EQ(score.exit_code, 0) << score.output;
   EXPECT_LT(nlohmann::json::parse(score.output)["metrics"]["cosine"].get<double>(), 1e-12);

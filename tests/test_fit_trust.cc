@@ -130,8 +130,8 @@ TEST(FitTrust, APerChannelFitIsNeverWorseThanTheSharedOne) {
   // Each channel with its own lobe width: the shared fit cannot match all three.
   SampleSet data = table_of(ward, parameter_values(ward, {"albedo=0.2,0.2,0.2", "specular=0.1,0.1,0.1", "alpha=0.05"}),
                             4000, 0.0, 3);
-  const SampleSet wide = table_of(ward, parameter_values(ward, {"albedo=0.2,0.2,0.2", "specular=0.1,0.1,0.1", "alpha=0.3"}),
-                                  4000, 0.0, 3);
+  const SampleSet wide =
+      table_of(ward, parameter_values(ward, {"albedo=0.2,0.2,0.2", "specular=0.1,0.1,0.1", "alpha=0.3"}), 4000, 0.0, 3);
   for (size_t i = 0; i < data.size(); ++i) data.samples[i].value[2] = wide.samples[i].value[2];
   FitOptions per_channel;
   per_channel.per_channel = true;
@@ -160,9 +160,8 @@ TEST(FitTrust, AMismatchedModelIsPoorAndTheRightOneGood) {
 // A glossy table: Lambert leaves the lobe, the dominant part of the data, unexplained.
 TEST(FitTrust, LambertOnAGlossyTableIsPoorAndTheLobeGood) {
   const Model& ward = model("ward");
-  const SampleSet data =
-      table_of(ward, parameter_values(ward, {"albedo=0.02,0.02,0.02", "specular=0.2,0.2,0.2", "alpha=0.05"}), 8000,
-               0.01, 9);
+  const SampleSet data = table_of(
+      ward, parameter_values(ward, {"albedo=0.02,0.02,0.02", "specular=0.2,0.2,0.2", "alpha=0.05"}), 8000, 0.01, 9);
   const std::vector<FitResult> results = fit_models({&ward, &model("lambert")}, data, FitOptions{});
   EXPECT_EQ(result_of(results, "ward").verdict, Verdict::Good);
   const FitResult& lambert = result_of(results, "lambert");

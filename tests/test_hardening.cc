@@ -50,7 +50,8 @@ SampleSet lambert_samples(double value, size_t count = 50) {
   SampleSet set;
   set.source = "test-table";
   for (size_t i = 0; i < count; ++i)
-    set.samples.push_back({dir(0.1 * (i % 5), 0.0, 1.0), dir(0.0, 0.1 * (i % 3), 1.0), Rgb<double>::Constant(value), 1.0});
+    set.samples.push_back(
+        {dir(0.1 * (i % 5), 0.0, 1.0), dir(0.0, 0.1 * (i % 3), 1.0), Rgb<double>::Constant(value), 1.0});
   return set;
 }
 
@@ -74,7 +75,8 @@ TEST(Hardening, OneBadMemberNeverKillsABatch) {
   const std::string dir = fresh_dir("hardening-batch-member");
   write_model_csv(dir + "/good.csv", "lambert", {"albedo=0.5"}, 200);
   write_text(dir + "/huge.csv", "lx,ly,lz,vx,vy,vz,r,g,b\n0,0,1,0,0,1,1e300,1e300,1e300\n");
-  const CommandResult r = run_cli("batch " + dir + "/good.csv " + dir + "/huge.csv --models lambert --out " + dir + "/out");
+  const CommandResult r =
+      run_cli("batch " + dir + "/good.csv " + dir + "/huge.csv --models lambert --out " + dir + "/out");
   EXPECT_EQ(r.exit_code, 1) << r.output;  // a failed member: an error exit, not an abort (134)
   EXPECT_TRUE(fs::exists(dir + "/out/summary.json"));
   EXPECT_TRUE(fs::exists(dir + "/out/good.json"));
@@ -98,10 +100,13 @@ TEST(Hardening, ResultDocumentsAreValidatedAgainstTheModel) {
     write_file_atomic(dir + "/bad.json", doc.dump());
     return error_of([&] { read_fit_document(dir + "/bad.json"); });
   };
-  std::string message = rejected([](nlohmann::json& m) { m["channel_values"] = {nlohmann::json::array(), nlohmann::json::array(), nlohmann::json::array()}; });
+  std::string message = rejected([](nlohmann::json& m) {
+    m["channel_values"] = {nlohmann::json::array(), nlohmann::json::array(), nlohmann::json::array()};
+  });
   EXPECT_NE(message.find("bad.json: models[0].channel_values[0]"), std::string::npos) << message;
   message = rejected([](nlohmann::json& m) { m["channel_values"] = {{0.5}, {0.5}, {0.5}}; });
-  EXPECT_NE(message.find("expected an array of the " + std::to_string(ggx.num_values()) + " values"), std::string::npos) << message;
+  EXPECT_NE(message.find("expected an array of the " + std::to_string(ggx.num_values()) + " values"), std::string::npos)
+      << message;
   message = rejected([](nlohmann::json& m) { m["values"] = nlohmann::json::array(); });
   EXPECT_NE(message.find("models[0].values"), std::string::npos) << message;
   // roughness is the last ggx value; its upper bound is 1.
@@ -114,12 +119,17 @@ TEST(Hardening, ResultDocumentsAreValidatedAgainstTheModel) {
   message = rejected([](nlohmann::json& m) { m["warnings"] = 5; });
   EXPECT_NE(message.find("bad.json"), std::string::npos) << message;
   // The fitter's verdict and warnings are accepted.
-  EXPECT_EQ(rejected([](nlohmann::json& m) { m["verdict"] = "poor"; m["warnings"] = {"a warning"}; }), "");
+  EXPECT_EQ(rejected([](nlohmann::json& m) {
+              m["verdict"] = "poor";
+              m["warnings"] = {"a warning"};
+            }),
+            "");
 }
 
 TEST(Hardening, ExportOfAMalformedDocumentIsAnErrorNotACrash) {
   const std::string dir = fresh_dir("hardening-export");
-  nlohmann::json doc = nlohmann::json::parse(slurp(write_document(dir + "/r.json", dir + "/t.csv", {known_result("ggx", 0.1)})));
+  nlohmann::json doc =
+      nlohmann::json::parse(slurp(write_document(dir + "/r.json", dir + "/t.csv", {known_result("ggx", 0.1)})));
   doc["models"][0]["channel_values"] = {nlohmann::json::array(), nlohmann::json::array(), nlohmann::json::array()};
   write_file_atomic(dir + "/r.json", doc.dump());
   const CommandResult r = run_cli("export " + dir + "/r.json --out " + dir + "/m.gltf");
@@ -133,8 +143,9 @@ TEST(Hardening, ExportOfAMalformedDocumentIsAnErrorNotACrash) {
 TEST(Hardening, AbsurdLightsIntensitiesAndExposuresAreRefused) {
   const std::string dir = fresh_dir("hardening-lights");
   write_text(dir + "/lights.txt", "0 0 1\n1e300 1e300 1e300\n");
-  EXPECT_NE(error_of([&] { read_light_directions(dir + "/lights.txt", 2); }).find("lights.txt:2: '1e300' is out of range"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of([&] { read_light_directions(dir + "/lights.txt", 2); }).find("lights.txt:2: '1e300' is out of range"),
+      std::string::npos);
   write_text(dir + "/intensities.txt", "1 1 1\n1e-300 1 1\n");
   EXPECT_NE(error_of([&] { read_light_intensities(dir + "/intensities.txt", 2); }).find("intensities.txt:2"),
             std::string::npos);
@@ -159,8 +170,9 @@ TEST(Hardening, OutputsThatAreInputsOrEachOtherAreRefused) {
   ASSERT_EQ(::link((dir + "/table.csv").c_str(), (dir + "/hard.csv").c_str()), 0);
   EXPECT_NE(error_of([&] { check_outputs({dir + "/table.csv"}, {dir + "/./hard.csv"}); }).find("is the input"),
             std::string::npos);
-  EXPECT_NE(error_of([&] { check_outputs({dir + "/table.csv"}, {dir + "/x.json", dir + "/../hardening-outputs/x.json"}); })
-                .find("two outputs"),
+  EXPECT_NE(error_of([&] {
+              check_outputs({dir + "/table.csv"}, {dir + "/x.json", dir + "/../hardening-outputs/x.json"});
+            }).find("two outputs"),
             std::string::npos);
   EXPECT_EQ(error_of([&] { check_outputs({dir + "/table.csv"}, {dir + "/x.json", "", dir + "/x.csv"}); }), "");
   EXPECT_NE(error_of([&] { check_outputs({}, {"/dev/null"}); }).find("a device"), std::string::npos);
@@ -209,15 +221,17 @@ TEST(Hardening, AtomicWritesCreateTemporariesExclusivelyAndOnlyReplaceRegularFil
   ::umask(mask);
   EXPECT_EQ(info.st_mode & 0777, 0666 & ~mask);
   // Images go through the same mechanism.
-  EXPECT_NE(error_of([&] { write_image(dir + "/fifo", cv::Mat(4, 4, CV_32FC3, cv::Scalar(0.5, 0.5, 0.5))); }).find("a FIFO"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of([&] { write_image(dir + "/fifo", cv::Mat(4, 4, CV_32FC3, cv::Scalar(0.5, 0.5, 0.5))); }).find("a FIFO"),
+      std::string::npos);
 }
 
 TEST(Hardening, ResumeRemovesStaleTemporaryFiles) {
   const std::string dir = fresh_dir("hardening-stale-temp");
   write_model_csv(dir + "/a.csv", "lambert", {"albedo=0.5"}, 200);
   fs::create_directories(dir + "/out");
-  for (const char* name : {"a.json.tmp.12345", "summary.json.tmp.Ab3xYz", "x.png.tmp.Q1w2E3.png"}) write_text(dir + "/out/" + name, "{");
+  for (const char* name : {"a.json.tmp.12345", "summary.json.tmp.Ab3xYz", "x.png.tmp.Q1w2E3.png"})
+    write_text(dir + "/out/" + name, "{");
   write_text(dir + "/out/notes.tmp.txt", "mine");  // not a temporary of brdffit's
   const CommandResult r = run_cli("batch " + dir + "/a.csv --models lambert --resume --out " + dir + "/out");
   EXPECT_EQ(r.exit_code, 0) << r.output;
@@ -232,7 +246,9 @@ TEST(Hardening, ABatchOutputFolderIsLocked) {
   {
     const OutputFolderLock lock(dir + "/out");
     EXPECT_EQ(slurp(dir + "/out/" + OutputFolderLock::kLockName), std::to_string(::getpid()) + "\n");
-    EXPECT_NE(error_of([&] { OutputFolderLock second(dir + "/out"); }).find("another batch (pid " + std::to_string(::getpid())),
+    EXPECT_NE(error_of([&] {
+                OutputFolderLock second(dir + "/out");
+              }).find("another batch (pid " + std::to_string(::getpid())),
               std::string::npos);
     // A second batch (another process) gets a clear error while this one holds the folder.
     write_model_csv(dir + "/a.csv", "lambert", {"albedo=0.5"}, 100);
@@ -292,7 +308,8 @@ TEST(Hardening, OnlyRegularFilesWithinTheLimitAreRead) {
   EXPECT_NE(error_of([&] { sha256_file(dir + "/fifo"); }).find("a FIFO"), std::string::npos);
   EXPECT_NE(error_of([&] { read_file(dir); }).find("a folder"), std::string::npos);
   write_text(dir + "/eleven", "0123456789A");
-  EXPECT_NE(error_of([&] { read_file(dir + "/eleven", 10); }).find("11 bytes, more than the limit of 10"), std::string::npos);
+  EXPECT_NE(error_of([&] { read_file(dir + "/eleven", 10); }).find("11 bytes, more than the limit of 10"),
+            std::string::npos);
   EXPECT_EQ(read_file(dir + "/eleven", 11), "0123456789A");
   const CommandResult r = run_cli("info " + dir + "/fifo");
   EXPECT_EQ(r.exit_code, 1);
@@ -331,7 +348,8 @@ TEST(Hardening, SphereAndCaptureRefuseToWriteOverTheirInputs) {
 }
 
 TEST(Hardening, CsvIsStreamedLineByLineWithTheSameResult) {
-  const std::string text = "# unit: degrees\ntheta_i,phi_i,theta_o,phi_o,r,g,b\n30,0,30,180,0.5,0.25,0.125\n\n60,0,0,0,1,1,1\n";
+  const std::string text =
+      "# unit: degrees\ntheta_i,phi_i,theta_o,phi_o,r,g,b\n30,0,30,180,0.5,0.25,0.125\n\n60,0,0,0,1,1,1\n";
   std::istringstream lines(text);
   const SampleSet streamed = read_csv_samples(lines, "s.csv");
   ASSERT_EQ(streamed.size(), 2u);
@@ -350,7 +368,8 @@ TEST(Hardening, ImagesAboveThePixelLimitAreRefusedBeforeDecoding) {
   set_max_image_pixels(600);
   const cv::Mat image = read_image(dir + "/img.exr");
   set_max_image_pixels(saved);
-  EXPECT_NE(message.find("30x20 pixels, more than the limit of 599 pixels (raise it with --max-pixels)"), std::string::npos)
+  EXPECT_NE(message.find("30x20 pixels, more than the limit of 599 pixels (raise it with --max-pixels)"),
+            std::string::npos)
       << message;
   EXPECT_EQ(image.cols, 30);
 }
@@ -359,7 +378,8 @@ TEST(Hardening, ImagesAboveThePixelLimitAreRefusedBeforeDecoding) {
 
 TEST(Hardening, CompareMarkdownEscapesNames) {
   const std::string dir = fresh_dir("hardening-markdown");
-  nlohmann::json doc = nlohmann::json::parse(slurp(write_document(dir + "/r.json", dir + "/t.csv", {known_result("lambert", 0.1)})));
+  nlohmann::json doc =
+      nlohmann::json::parse(slurp(write_document(dir + "/r.json", dir + "/t.csv", {known_result("lambert", 0.1)})));
   doc["material"] = "<script>alert(1)</script>|*x*";
   write_file_atomic(dir + "/r.json", doc.dump());
   const std::string md = comparison_markdown(compare_results({read_fit_document(dir + "/r.json")}, Metric::Cosine));
@@ -383,12 +403,14 @@ TEST(Hardening, ErrorMessagesEscapeControlCharactersAndKeepWhatFollowsANul) {
 TEST(Hardening, NegativeOrAbsurdOptionValuesAreRefused) {
   const std::string dir = fresh_dir("hardening-options");
   write_model_csv(dir + "/t.csv", "lambert", {"albedo=0.5"}, 50);
-  for (std::string command : {"fit T --max-samples -1", "fit T --threads -5", "fit T --threads 100000", "fit T --seed -1",
-                              "batch T --jobs -2 --out D/o", "batch T --threads -1 --out D/o",
-                              "report D --top -3 --out D/r.html", "sphere T --max-samples -1",
-                              "capture 0 --frames -1 --out D/x.exr"}) {
-    for (const auto& [placeholder, value] : {std::pair<std::string, std::string>{" T", " " + dir + "/t.csv"}, {" D", " " + dir}})
-      for (size_t at; (at = command.find(placeholder)) != std::string::npos;) command.replace(at, placeholder.size(), value);
+  for (std::string command :
+       {"fit T --max-samples -1", "fit T --threads -5", "fit T --threads 100000", "fit T --seed -1",
+        "batch T --jobs -2 --out D/o", "batch T --threads -1 --out D/o", "report D --top -3 --out D/r.html",
+        "sphere T --max-samples -1", "capture 0 --frames -1 --out D/x.exr"}) {
+    for (const auto& [placeholder, value] :
+         {std::pair<std::string, std::string>{" T", " " + dir + "/t.csv"}, {" D", " " + dir}})
+      for (size_t at; (at = command.find(placeholder)) != std::string::npos;)
+        command.replace(at, placeholder.size(), value);
     SCOPED_TRACE(command);
     const CommandResult r = run_cli(command);
     EXPECT_NE(r.exit_code, 0);

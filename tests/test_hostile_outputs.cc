@@ -72,10 +72,12 @@ TEST(HostileOutputs, TheMetricChosenChangesTheRanking) {
 TEST(HostileOutputs, CompareCliRanksByMetricAndQuotesNames) {
   const std::string dir = test::fresh_dir("hostile-compare");
   const std::vector<std::string> documents = write_documents(dir);
-  const auto by_log = test::run_cli("compare " + documents[0] + " " + documents[1] + " --metric log --csv " + dir + "/c.csv");
+  const auto by_log =
+      test::run_cli("compare " + documents[0] + " " + documents[1] + " --metric log --csv " + dir + "/c.csv");
   ASSERT_EQ(by_log.exit_code, 0) << by_log.output;
   EXPECT_NE(by_log.output.find("ranked by the log metric over 2 materials"), std::string::npos) << by_log.output;
-  EXPECT_NE(by_log.output.find(kHostile + ":  1. ggx 0.3  2. lambert 0.4  3. ward 0.5"), std::string::npos) << by_log.output;
+  EXPECT_NE(by_log.output.find(kHostile + ":  1. ggx 0.3  2. lambert 0.4  3. ward 0.5"), std::string::npos)
+      << by_log.output;
   const auto by_cosine = test::run_cli("compare " + documents[0] + " " + documents[1]);
   ASSERT_EQ(by_cosine.exit_code, 0) << by_cosine.output;
   EXPECT_NE(by_cosine.output.find(kHostile + ":  1. ward 0.1  2. ggx 0.2  3. lambert 0.3"), std::string::npos)
@@ -154,9 +156,9 @@ TEST(HostileOutputs, ReportEscapesNamesAndRanksByTheMetricAsked) {
 TEST(HostileOutputs, ExportEscapesTheName) {
   const std::string dir = test::fresh_dir("hostile-export");
   // Export writes the renderer model's own fit unchanged (a conversion would read the table).
-  const std::string document = test::write_document(
-      dir + "/hostile.json", "/nowhere/" + kHostile + ".binary",
-      {test::known_result("gltf", 0.2), test::known_result("principled", 0.2)});
+  const std::string document =
+      test::write_document(dir + "/hostile.json", "/nowhere/" + kHostile + ".binary",
+                           {test::known_result("gltf", 0.2), test::known_result("principled", 0.2)});
   const auto gltf = test::run_cli("export " + document + " --out " + dir + "/m.gltf");
   ASSERT_EQ(gltf.exit_code, 0) << gltf.output;
   EXPECT_EQ(nlohmann::json::parse(read_file(dir + "/m.gltf"))["materials"][0]["name"], kHostile);

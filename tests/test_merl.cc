@@ -41,7 +41,8 @@ using test::raw_bin;
 using test::raw_f;
 
 void expect_rgb_near(const Rgb<double>& actual, const Rgb<double>& expected, double relative) {
-  for (int c = 0; c < 3; ++c) EXPECT_NEAR(actual[c], expected[c], relative * std::abs(expected[c]) + 1e-300) << "channel " << c;
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(actual[c], expected[c], relative * std::abs(expected[c]) + 1e-300) << "channel " << c;
 }
 
 // --- reading and lookups on the shared proxies ---------------------------------------------------
@@ -66,20 +67,20 @@ TEST_P(MerlProxy, LookupsEqualTheRawBins) {
     return Case{l, v, ih, id, ip};
   };
   const Case cases[] = {
-      angles(20.25, 40.5, 90.5, 0, 42, 40, 90),     // √0.225·90 = 42.69
-      angles(1.0, 10.3, 45.7, 37, 9, 10, 45),       // √(1/90)·90 = 9.49; φh does not matter
-      angles(50.0, 25.2, 150.2, -120, 67, 25, 150), // √(5/9)·90 = 67.08
-      angles(5.0, 60.4, 200.3, 10, 21, 60, 20),     // √(1/18)·90 = 21.21; φd 200.3° ≡ 20.3°
-      angles(30.0, 5.5, 300.8, 200, 51, 5, 120),    // √(1/3)·90 = 51.96; φd 300.8° ≡ 120.8°
-      angles(0.3, 0.7, 10.5, 0, 5, 0, 10),          // near the normal: √(1/300)·90 = 5.20
-      angles(70.0, 15.4, 90.4, 45, 79, 15, 90),     // √(7/9)·90 = 79.37, both directions at ~71°
+      angles(20.25, 40.5, 90.5, 0, 42, 40, 90),      // √0.225·90 = 42.69
+      angles(1.0, 10.3, 45.7, 37, 9, 10, 45),        // √(1/90)·90 = 9.49; φh does not matter
+      angles(50.0, 25.2, 150.2, -120, 67, 25, 150),  // √(5/9)·90 = 67.08
+      angles(5.0, 60.4, 200.3, 10, 21, 60, 20),      // √(1/18)·90 = 21.21; φd 200.3° ≡ 20.3°
+      angles(30.0, 5.5, 300.8, 200, 51, 5, 120),     // √(1/3)·90 = 51.96; φd 300.8° ≡ 120.8°
+      angles(0.3, 0.7, 10.5, 0, 5, 0, 10),           // near the normal: √(1/300)·90 = 5.20
+      angles(70.0, 15.4, 90.4, 45, 79, 15, 90),      // √(7/9)·90 = 79.37, both directions at ~71°
       // Plain (unnormalised) vectors; h = normalize(l̂ + v̂), θh = acos(h_z), θd = acos(l̂·h) and
       // φd from l̂'s components along t and b as above:
-      {{0.7, 0.1, 0.3}, {-0.6, 0.0, 0.5}, 30, 58, 142},    // θh 22.96° (u 30.93), θd 58.37°, φd 142.62°
-      {{0.2, 0.6, 1}, {0.25, 0.5, 1}, 52, 2, 53},          // u 52.56, θd 2.59°, φd 53.11°
-      {{0.5, -0.3, 0.8}, {-0.4, 0.15, 0.9}, 23, 30, 29},   // u 23.52, θd 30.60°, φd 29.09°
-      {{0.1, 0.05, 1}, {-0.3, 0.2, 1}, 28, 11, 32},        // u 28.17, θd 11.81°, φd -147.80° ≡ 32.20°
-      {{-0.8, -0.2, 0.4}, {0.3, 0.5, 0.6}, 51, 48, 67},    // u 51.08, θd 48.75°, φd 67.34°
+      {{0.7, 0.1, 0.3}, {-0.6, 0.0, 0.5}, 30, 58, 142},   // θh 22.96° (u 30.93), θd 58.37°, φd 142.62°
+      {{0.2, 0.6, 1}, {0.25, 0.5, 1}, 52, 2, 53},         // u 52.56, θd 2.59°, φd 53.11°
+      {{0.5, -0.3, 0.8}, {-0.4, 0.15, 0.9}, 23, 30, 29},  // u 23.52, θd 30.60°, φd 29.09°
+      {{0.1, 0.05, 1}, {-0.3, 0.2, 1}, 28, 11, 32},       // u 28.17, θd 11.81°, φd -147.80° ≡ 32.20°
+      {{-0.8, -0.2, 0.4}, {0.3, 0.5, 0.6}, 51, 48, 67},   // u 51.08, θd 48.75°, φd 67.34°
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(::testing::Message() << "bin " << c.ih << "," << c.id << "," << c.ip);
@@ -162,7 +163,8 @@ INSTANTIATE_TEST_SUITE_P(Merl, MerlProxy, ::testing::Values("gold-metallic-paint
 
 TEST(Merl, BakeAndReadRoundTripExactly) {
   const std::string path = scratch_path("ggx.binary");
-  const auto bake = test::run_cli("bake ggx --param albedo=0.2,0.3,0.4 --param roughness=0.3 --param f0=0.5 --out " + path);
+  const auto bake =
+      test::run_cli("bake ggx --param albedo=0.2,0.3,0.4 --param roughness=0.3 --param f0=0.5 --out " + path);
   ASSERT_EQ(bake.exit_code, 0) << bake.output;
   EXPECT_EQ(test::fs::file_size(path), 12u + 3u * kBins * 8);
   // Every bin holds the model's f at the bin centre divided by the channel scale: the centre's
@@ -218,8 +220,12 @@ TEST(Merl, RefusesToWriteValuesThatWouldReadAsMissing) {
                {path, "-0.2", "non-negative"});
   expect_error([&] { write_merl(path, [](const Vec3&, const Vec3&) { return Rgb<double>(0.1, NAN, 0.1); }); },
                {path, "finite"});
-  expect_error([&] { write_merl(path, [](const Vec3&, const Vec3&) { return Rgb<double>(0.1, 0.1, 0.1); }, 90); },
-               {path, "180 or 360"});
+  expect_error(
+      [&] {
+        write_merl(
+            path, [](const Vec3&, const Vec3&) { return Rgb<double>(0.1, 0.1, 0.1); }, 90);
+      },
+      {path, "180 or 360"});
   EXPECT_FALSE(test::fs::exists(path));
 }
 
@@ -285,7 +291,8 @@ TEST(Merl, SamplesSkipBinsWithoutAMeasurement) {
 
 TEST(Merl, RejectsMalformedFilesNamingTheFileAndTheProblem) {
   const std::string good = constant_merl_file(1.0);
-  expect_error([] { MerlTable::parse("abc", "tiny.binary"); }, {"tiny.binary", "3 bytes", "shorter than the 12-byte header"});
+  expect_error([] { MerlTable::parse("abc", "tiny.binary"); },
+               {"tiny.binary", "3 bytes", "shorter than the 12-byte header"});
   expect_error([] { MerlTable::parse(merl_header(90, 90, 90) + "xxxx", "dims.binary"); },
                {"dims.binary", "dimensions 90x90x90", "expected 90x90x180 or 90x90x360"});
   expect_error([] { MerlTable::parse(merl_header(-90, 90, 180), "negative-dims.binary"); },
@@ -315,8 +322,9 @@ TEST(Merl, RejectsMalformedFilesNamingTheFileAndTheProblem) {
   put_double(negative, kBins + 3, -1.0);  // the same bin in G: still one bin
   put_double(negative, 2 * kBins + 4, -0.5);
   EXPECT_EQ(MerlTable::parse(negative, "neg.binary").invalid_bins(), 2u);
-  EXPECT_EQ(MerlTable::parse(merl_header(90, 90, 360) + std::string(3 * kBins * 2 * 8, '\0'), "wide.binary").phi_d_bins(),
-            360);
+  EXPECT_EQ(
+      MerlTable::parse(merl_header(90, 90, 360) + std::string(3 * kBins * 2 * 8, '\0'), "wide.binary").phi_d_bins(),
+      360);
 }
 
 }  // namespace

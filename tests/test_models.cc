@@ -29,9 +29,9 @@ void expect_rgb_near(const Rgb<double>& actual, double r, double g, double b, do
 }
 
 TEST(Registry, HasEveryModelTheIssueNames) {
-  for (const char* name : {"lambert", "half-lambert", "wrap", "phong", "blinn-phong", "banded", "minnaert", "oren-nayar",
-                           "gaussian", "beckmann", "ggx", "toon", "cook-torrance", "ward", "ashikhmin-shirley",
-                           "lafortune"})
+  for (const char* name :
+       {"lambert", "half-lambert", "wrap", "phong", "blinn-phong", "banded", "minnaert", "oren-nayar", "gaussian",
+        "beckmann", "ggx", "toon", "cook-torrance", "ward", "ashikhmin-shirley", "lafortune"})
     EXPECT_NE(find_model(name), nullptr) << name;
 }
 
@@ -57,8 +57,8 @@ TEST(Registry, ParameterTablesAreConsistent) {
 TEST(Lambert, HandValues) {
   // f = albedo/π; shade = f·cosθi.
   expect_rgb_near(shade("lambert", {"albedo=1"}, dir(0, 0, 1), dir(1, 0, 1)), 1 / kPi, 1 / kPi, 1 / kPi);
-  expect_rgb_near(shade("lambert", {"albedo=0.2,0.4,0.6"}, dir(1, 0, 1), dir(0, 0, 1)),
-                  0.2 / kPi * std::sqrt(0.5), 0.4 / kPi * std::sqrt(0.5), 0.6 / kPi * std::sqrt(0.5));
+  expect_rgb_near(shade("lambert", {"albedo=0.2,0.4,0.6"}, dir(1, 0, 1), dir(0, 0, 1)), 0.2 / kPi * std::sqrt(0.5),
+                  0.4 / kPi * std::sqrt(0.5), 0.6 / kPi * std::sqrt(0.5));
   expect_rgb_near(shade("lambert", {"albedo=1"}, dir(1, 0, -0.2), dir(0, 0, 1)), 0, 0, 0);
 }
 
@@ -79,8 +79,8 @@ TEST(Ggx, HandValues) {
     expect_rgb_near(s, spec * nl, spec * nl, spec * nl);
   }
   // Coloured f0 only changes the specular term per channel; light below the horizon gives 0.
-  expect_rgb_near(shade("ggx", {"albedo=0", "roughness=0.5", "f0=1,0.5,0"}, dir(0, 0, 1), dir(0, 0, 1)), d / 4,
-                  d / 8, 0.0);
+  expect_rgb_near(shade("ggx", {"albedo=0", "roughness=0.5", "f0=1,0.5,0"}, dir(0, 0, 1), dir(0, 0, 1)), d / 4, d / 8,
+                  0.0);
   expect_rgb_near(shade("ggx", {}, dir(0, 1, -0.1), dir(0, 0, 1)), 0, 0, 0);
 }
 
@@ -309,7 +309,8 @@ TEST(Cli, EvalMatchesTheLibrary) {
     const nlohmann::json out = nlohmann::json::parse(result.output);
     const Rgb<double> expected = m->shade(values.data(), dir(0.3, -0.2, 1), dir(-0.4, 0.1, 0.8));
     EXPECT_EQ(out["model"], m->name());
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(out["shade"][c].get<double>(), expected[c], 1e-12 * (1 + std::abs(expected[c])));
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(out["shade"][c].get<double>(), expected[c], 1e-12 * (1 + std::abs(expected[c])));
     EXPECT_EQ(out["brdf"].is_null(), !m->has_brdf());
   }
 }
@@ -322,13 +323,14 @@ TEST(Cli, BadArgumentsExitNonZeroWithAMessage) {
     int exit_code;
     const char* message;
   };
-  for (const Case& c : {Case{"eval nosuchmodel --light 0,0,1 --view 0,0,1", 1, "brdffit: error: unknown model 'nosuchmodel'"},
-                        Case{"eval ggx --param roughness=5 --light 0,0,1 --view 0,0,1", 1, "roughness must lie in [0.01, 1], got 5"},
-                        Case{"eval ggx --param gloss=5 --light 0,0,1 --view 0,0,1", 1, "model ggx has no parameter 'gloss'"},
-                        Case{"eval ggx --light 0,0 --view 0,0,1", 1, "--light: expected X,Y,Z, got '0,0'"},
-                        Case{"eval ggx --light 0,0,0 --view 0,0,1", 1, "--light and --view must be non-zero directions"},
-                        Case{"eval ggx --view 0,0,1", 106, "--light is required"},
-                        Case{"nosuchcommand", 106, "A subcommand is required"}}) {
+  for (const Case& c :
+       {Case{"eval nosuchmodel --light 0,0,1 --view 0,0,1", 1, "brdffit: error: unknown model 'nosuchmodel'"},
+        Case{"eval ggx --param roughness=5 --light 0,0,1 --view 0,0,1", 1, "roughness must lie in [0.01, 1], got 5"},
+        Case{"eval ggx --param gloss=5 --light 0,0,1 --view 0,0,1", 1, "model ggx has no parameter 'gloss'"},
+        Case{"eval ggx --light 0,0 --view 0,0,1", 1, "--light: expected X,Y,Z, got '0,0'"},
+        Case{"eval ggx --light 0,0,0 --view 0,0,1", 1, "--light and --view must be non-zero directions"},
+        Case{"eval ggx --view 0,0,1", 106, "--light is required"},
+        Case{"nosuchcommand", 106, "A subcommand is required"}}) {
     SCOPED_TRACE(c.args);
     const auto result = test::run_cli(c.args);
     EXPECT_EQ(result.exit_code, c.exit_code) << result.output;

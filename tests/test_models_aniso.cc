@@ -61,11 +61,13 @@ TEST(WardAniso, HandValues) {
               0.1 / kPi + 0.3 / (4 * kPi * 0.03), 1e-12);
   // l = n, v at 60° along the bitangent with φ₀ = 0 (azimuth 90°): tan²θh = 1/3, φh = 90°:
   // f = s·exp(-(1/3)/α_y²)/(4π α_x α_y √(1·0.5)).
-  EXPECT_NEAR(shade1("ward-aniso", {"albedo=0", "specular=1", "alpha_x=0.1", "alpha_y=0.3", "phi0=0"}, kNormal, at_60(90)),
-              std::exp(-1.0 / 3 / 0.09) / (4 * kPi * 0.03 * std::sqrt(0.5)), 1e-12);
+  EXPECT_NEAR(
+      shade1("ward-aniso", {"albedo=0", "specular=1", "alpha_x=0.1", "alpha_y=0.3", "phi0=0"}, kNormal, at_60(90)),
+      std::exp(-1.0 / 3 / 0.09) / (4 * kPi * 0.03 * std::sqrt(0.5)), 1e-12);
   // φh = 45° from the tangent (φ₀ = 10°, azimuth 55°): exponent tan²θh (½/α_x² + ½/α_y²).
-  EXPECT_NEAR(shade1("ward-aniso", {"albedo=0", "specular=1", "alpha_x=0.4", "alpha_y=0.3", "phi0=10"}, kNormal, at_60(55)),
-              std::exp(-1.0 / 3 * (0.5 / 0.16 + 0.5 / 0.09)) / (4 * kPi * 0.12 * std::sqrt(0.5)), 1e-12);
+  EXPECT_NEAR(
+      shade1("ward-aniso", {"albedo=0", "specular=1", "alpha_x=0.4", "alpha_y=0.3", "phi0=10"}, kNormal, at_60(55)),
+      std::exp(-1.0 / 3 * (0.5 / 0.16 + 0.5 / 0.09)) / (4 * kPi * 0.12 * std::sqrt(0.5)), 1e-12);
 }
 
 TEST(AshikhminShirleyAniso, HandValues) {
@@ -74,14 +76,17 @@ TEST(AshikhminShirleyAniso, HandValues) {
   const double nu = 10, nv = 200, f0 = 0.2, f = f0 + (1 - f0) * std::pow(1 - kCos30, 5);
   const double scale = std::sqrt((nu + 1) * (nv + 1)) / (8 * kPi);
   const std::vector<std::string> params = {"albedo=0", "specular=1", "f0=0.2", "n_u=10", "n_v=200", "phi0=0"};
-  EXPECT_NEAR(shade1("ashikhmin-shirley-aniso", params, kNormal, at_60(0)), scale * std::pow(kCos30, nu) * f / kCos30, 1e-12);
+  EXPECT_NEAR(shade1("ashikhmin-shirley-aniso", params, kNormal, at_60(0)), scale * std::pow(kCos30, nu) * f / kCos30,
+              1e-12);
   // Along the bitangent: exponent n_v.
-  EXPECT_NEAR(shade1("ashikhmin-shirley-aniso", params, kNormal, at_60(90)), scale * std::pow(kCos30, nv) * f / kCos30, 1e-14);
+  EXPECT_NEAR(shade1("ashikhmin-shirley-aniso", params, kNormal, at_60(90)), scale * std::pow(kCos30, nv) * f / kCos30,
+              1e-14);
   // φh = 60°: e = n_u cos²60 + n_v sin²60 = 2.5 + 150.
   EXPECT_NEAR(shade1("ashikhmin-shirley-aniso", params, kNormal, at_60(60)),
               scale * std::pow(kCos30, 0.25 * nu + 0.75 * nv) * f / kCos30, 1e-14);
   // l = v = n: (n·h)^e = 1, F = f0: f = albedo/π + s·scale·f0.
-  EXPECT_NEAR(shade1("ashikhmin-shirley-aniso", {"albedo=0.3", "specular=0.5", "f0=0.2", "n_u=10", "n_v=200"}, kNormal, kNormal),
+  EXPECT_NEAR(shade1("ashikhmin-shirley-aniso", {"albedo=0.3", "specular=0.5", "f0=0.2", "n_u=10", "n_v=200"}, kNormal,
+                     kNormal),
               0.3 / kPi + 0.5 * scale * f0, 1e-12);
 }
 
@@ -109,7 +114,8 @@ TEST(Nestings, ExactNestingsReproduceTheInnerModel) {
         const Rgb<double> expected = inner->shade(inner_values.data(), l, v);
         const Rgb<double> got = outer->shade(values.data(), l, v);
         for (int c = 0; c < 3; ++c)
-          EXPECT_NEAR(got[c], expected[c], 1e-12 * (1 + std::fabs(expected[c]))) << outer->name() << " ⊃ " << inner->name();
+          EXPECT_NEAR(got[c], expected[c], 1e-12 * (1 + std::fabs(expected[c])))
+              << outer->name() << " ⊃ " << inner->name();
         ++checked;
       }
     }
@@ -206,8 +212,8 @@ TEST(AnisotropicFit, RecoversWidthsAndRotationFromNoisyCsv) {
 TEST(AnisotropicFit, RecoversTheFrameFromAnAnisotropicRglFile) {
   const Model& model = *find_model("ggx-aniso");
   for (double rotation : {20.0, 75.0, 150.0}) {
-    const std::vector<double> truth =
-        test::turned_values(model, {"albedo=0.1", "f0=0.5", "alpha_x=0.15", "alpha_y=0.4"}, "alpha_x", "alpha_y", rotation);
+    const std::vector<double> truth = test::turned_values(
+        model, {"albedo=0.1", "f0=0.5", "alpha_x=0.15", "alpha_y=0.4"}, "alpha_x", "alpha_y", rotation);
     const RglBrdf table = RglBrdf::parse(test::tensor_file_bytes(test::anisotropic_rgl_fields(model, truth)),
                                          "ggx-aniso-" + std::to_string(int(rotation)) + ".bsdf");
     ASSERT_FALSE(table.isotropic());

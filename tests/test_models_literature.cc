@@ -30,7 +30,7 @@ double shade1(const std::string& name, const std::vector<std::string>& params, c
 
 const double kSqrtHalf = std::sqrt(0.5);
 const Vec3 kNormal(0, 0, 1);
-const Vec3 k45X = dir(1, 0, 1);   // 45° towards +x
+const Vec3 k45X = dir(1, 0, 1);    // 45° towards +x
 const Vec3 k45mX = dir(-1, 0, 1);  // 45° towards -x: the mirror of k45X
 
 TEST(CookTorrance, HandValues) {
@@ -75,8 +75,9 @@ TEST(AshikhminShirley, HandValues) {
   // l = n, v 60° away: n·h = l·h = cos30, max(1, 0.5) = 1, f0 = 1: (n+1)/(8π)·cos30^n/cos30.
   {
     const double c = std::cos(kPi / 6);
-    EXPECT_NEAR(shade1("ashikhmin-shirley", {"albedo=0", "specular=1", "f0=1", "n=4"}, kNormal, dir(std::sqrt(3), 0, 1)),
-                5 / (8 * kPi) * std::pow(c, 4) / c, 1e-12);
+    EXPECT_NEAR(
+        shade1("ashikhmin-shirley", {"albedo=0", "specular=1", "f0=1", "n=4"}, kNormal, dir(std::sqrt(3), 0, 1)),
+        5 / (8 * kPi) * std::pow(c, 4) / c, 1e-12);
   }
 }
 
@@ -89,8 +90,9 @@ TEST(Lafortune, HandValues) {
   EXPECT_NEAR(shade1("lafortune", {"albedo=0.3", "specular=0.5", "cxy=-0.3", "cz=0.6", "n=3"}, kNormal, kNormal),
               0.3 / kPi + 0.5 * 5 / (2 * kPi), 1e-12);
   // l = n, v 60° away: lx vx + ly vy = 0, lz vz = 0.5; cz = 1: (0.5)^2 with n = 2 → 4/(2π)·0.25.
-  EXPECT_NEAR(shade1("lafortune", {"albedo=0", "specular=1", "cxy=-1", "cz=1", "n=2"}, kNormal, dir(std::sqrt(3), 0, 1)),
-              4 / (2 * kPi) * 0.25, 1e-12);
+  EXPECT_NEAR(
+      shade1("lafortune", {"albedo=0", "specular=1", "cxy=-1", "cz=1", "n=2"}, kNormal, dir(std::sqrt(3), 0, 1)),
+      4 / (2 * kPi) * 0.25, 1e-12);
 }
 
 TEST(Lafortune, HandValuesAtTheEdgesOfNgansFits) {
@@ -192,23 +194,23 @@ TEST(PublishedFits, ParsesTheBbmFormatAndMapsNgansTermsOneToOne) {
 
 TEST(PublishedFits, MalformedFilesNameTheFileAndLine) {
   const std::vector<std::pair<std::string, std::string>> malformed = {
-      {"m1 Aggregate(Lambertian(albedo = 1))\n", ":1:"},                                   // no '='
-      {"# ok\nm1 = Aggregate(Lambertian(albedo = [0.1, 0.2, 0.3])\n", ":2:"},              // unbalanced
-      {"m1 = Aggregate(Lambertian(albedo = [0.1, x, 0.3]))\n", ":1:"},                     // not a number
-      {"m1 = Aggregate(Lambertian(albedo = 0.1abc))\n", ":1:"},                            // trailing characters
-      {"m1 = Aggregate(Lambertian(albedo = []))\n", ":1:"},                                // empty list
-      {"m1 = Bagher(eta = [[1, 2], [3, 4])\n", ":1:"},                                     // unclosed list
+      {"m1 Aggregate(Lambertian(albedo = 1))\n", ":1:"},                       // no '='
+      {"# ok\nm1 = Aggregate(Lambertian(albedo = [0.1, 0.2, 0.3])\n", ":2:"},  // unbalanced
+      {"m1 = Aggregate(Lambertian(albedo = [0.1, x, 0.3]))\n", ":1:"},         // not a number
+      {"m1 = Aggregate(Lambertian(albedo = 0.1abc))\n", ":1:"},                // trailing characters
+      {"m1 = Aggregate(Lambertian(albedo = []))\n", ":1:"},                    // empty list
+      {"m1 = Bagher(eta = [[1, 2], [3, 4])\n", ":1:"},                         // unclosed list
       {"m1 = Bagher(eta = " + std::string(100, '[') + "1" + std::string(100, ']') + ")\n", ":1:"},  // too deep
-      {"m1 = Lambertian(albedo = 1e999)\n", ":1:"},                                        // not finite
-      {"m1 = Lambertian(albedo 0.5)\n", ":1:"},                                            // no '=' in the term
-      {"m1 = Lambertian(albedo = 1, albedo = 2)\n", ":1:"},                                // parameter twice
-      {"m1 = Lambertian(albedo = 1)\n\nm1 = Lambertian(albedo = 1)\n", ":3:"},             // material twice
-      {"m1 = 42\n", ":1:"},                                                                // no term
-      {"m1 = Aggregate()\n", ":1:"},                                                       // no term
-      {"m1 = Aggregate(albedo = 1)\n", ":1:"},                                             // Aggregate of a value
-      {"m1 = Lambertian(NganWard(albedo = 1))\n", ":1:"},                                  // term inside a term
-      {"m1 = Lambertian(albedo = 1)) extra\n", ":1:"},                                     // after the model
-      {" = Lambertian(albedo = 1)\n", ":1:"},                                              // no material
+      {"m1 = Lambertian(albedo = 1e999)\n", ":1:"},                                                 // not finite
+      {"m1 = Lambertian(albedo 0.5)\n", ":1:"},                                 // no '=' in the term
+      {"m1 = Lambertian(albedo = 1, albedo = 2)\n", ":1:"},                     // parameter twice
+      {"m1 = Lambertian(albedo = 1)\n\nm1 = Lambertian(albedo = 1)\n", ":3:"},  // material twice
+      {"m1 = 42\n", ":1:"},                                                     // no term
+      {"m1 = Aggregate()\n", ":1:"},                                            // no term
+      {"m1 = Aggregate(albedo = 1)\n", ":1:"},                                  // Aggregate of a value
+      {"m1 = Lambertian(NganWard(albedo = 1))\n", ":1:"},                       // term inside a term
+      {"m1 = Lambertian(albedo = 1)) extra\n", ":1:"},                          // after the model
+      {" = Lambertian(albedo = 1)\n", ":1:"},                                   // no material
   };
   for (const auto& [text, where] : malformed) {
     SCOPED_TRACE(text);

@@ -60,7 +60,8 @@ TEST(LowModels, FresnelReferenceIsRight) {
 }
 
 TEST(LowSmooth, HandValues) {
-  const std::vector<double> p = values_of("low-smooth", {"albedo=0.1,0.2,0.3", "A=2,1,0.5", "B=50", "C=1.5", "eta=1.5"});
+  const std::vector<double> p =
+      values_of("low-smooth", {"albedo=0.1,0.2,0.3", "A=2,1,0.5", "B=50", "C=1.5", "eta=1.5"});
   // l = v = n: l_xy + v_xy = 0 (S = 1), cosθd = 1, F = 0.04.
   expect_rgb_near(brdf("low-smooth", p, kN, kN),
                   Rgb<double>(0.1 / kPi + 2 * 0.04, 0.2 / kPi + 1 * 0.04, 0.3 / kPi + 0.5 * 0.04));
@@ -125,9 +126,8 @@ TEST(Sgd, HandValues) {
   // R: θ > θ0 = 0.2: G1 = 1 + 2(1 − exp(0.5 (θ − 0.2)²)).
   const double g1_r = 1 + 2 * (1 - std::exp(0.5 * std::pow(theta - 0.2, 2)));
   // G: Λ = 0, G1 = 1. B: θ0 < 0 and c = 1e4: c (θ+0.3)³ = 8390 is above the cap, G1 clamps to 0.
-  expect_rgb_near(brdf("sgd", p, kL, kMirrorV),
-                  Rgb<double>(0.1 / kPi + lobe(0.1, 0.5, 0.05, 0, 10, g1_r), 0.1 / kPi + lobe(0.2, 0, 0.5, 0.2, 5, 1),
-                              0.1 / kPi));
+  expect_rgb_near(brdf("sgd", p, kL, kMirrorV), Rgb<double>(0.1 / kPi + lobe(0.1, 0.5, 0.05, 0, 10, g1_r),
+                                                            0.1 / kPi + lobe(0.2, 0, 0.5, 0.2, 5, 1), 0.1 / kPi));
   // At normal incidence (θ = 0): R and G below θ0 (G1 = 1); B with θ0 = −0.3 still applies
   // the formula: c·0.3³ = 270, above the cap, clamped to 0. l·h = 1: F = f0 − f1.
   const double d_r = 10 * std::exp(-0.1) / std::pow(0.1, 0.5) / kPi, d_g = 5 * std::exp(-0.2) / kPi;
@@ -181,7 +181,8 @@ TEST(Sgd, ContainsCookTorranceWhereItsShadowingIsOne) {
   const Nesting& nesting = sgd.nestings()[1];
   EXPECT_EQ(nesting.inner, "cook-torrance");
   EXPECT_FALSE(nesting.exact);
-  const std::vector<double> inner = parameter_values(ct, {"albedo=0.1,0.2,0.3", "specular=0.5,0.4,0.3", "f0=0.2", "m=0.3"});
+  const std::vector<double> inner =
+      parameter_values(ct, {"albedo=0.1,0.2,0.3", "specular=0.5,0.4,0.3", "f0=0.2", "m=0.3"});
   const std::vector<double> outer = embed_values(sgd, nesting, ct, inner);
   EXPECT_NEAR(outer[sgd.offset_of("alpha")], 0.09, 1e-15);
   EXPECT_NEAR(outer[sgd.offset_of("K")], std::exp(0.09) / 0.09, 1e-12);
@@ -235,13 +236,13 @@ TEST(LowModels, PublishedParametersReproduceIndependentValues) {
   // low_cooktorrance_E2.fit, blue-acrylic: Lambertian [0.0162, 0.0399, 0.109],
   // LowCookTorrance(albedo = [0.06877, 0.06156, 0.05938], roughness = 0.01082, eta = 1.29353).
   // At l = v = n: f = albedo/π + albedo_s·F(η, 1)/(π m²).
-  const auto ct = find_published_fit(fits + "/low_cooktorrance_E2.fit", "blue-acrylic", *find_model("low-cook-torrance"));
+  const auto ct =
+      find_published_fit(fits + "/low_cooktorrance_E2.fit", "blue-acrylic", *find_model("low-cook-torrance"));
   ASSERT_TRUE(ct.has_value());
   const double f_ct = snell_fresnel(1.29353, 1.0) / (kPi * 0.01082 * 0.01082);
-  expect_rgb_near(brdf("low-cook-torrance", ct->values, kN, kN),
-                  Rgb<double>(0.0162 / kPi + 0.06877 * f_ct, 0.0399 / kPi + 0.06156 * f_ct,
-                              0.109 / kPi + 0.05938 * f_ct),
-                  1e-12);
+  expect_rgb_near(
+      brdf("low-cook-torrance", ct->values, kN, kN),
+      Rgb<double>(0.0162 / kPi + 0.06877 * f_ct, 0.0399 / kPi + 0.06156 * f_ct, 0.109 / kPi + 0.05938 * f_ct), 1e-12);
   // low_lowsmooth_E2.fit, red-fabric: Lambertian [0.187, 0.0208, 0.0043], LowSmooth(A = [0.90493,
   // 0.29388, 0.25333], B = 15.477787, C = 0.50072, eta = 1.42381), at l = (0.6,0,0.8), v = n.
   const auto smooth = find_published_fit(fits + "/low_lowsmooth_E2.fit", "red-fabric", *find_model("low-smooth"));
@@ -267,8 +268,10 @@ TEST(LowModels, EveryPublishedLineOfTheirFilesMaps) {
   std::string fits;
   if (!shared_fits_present(fits)) GTEST_SKIP() << "../shared/reference/published-fits is absent";
   const std::vector<std::pair<const char*, const char*>> files = {
-      {"low-smooth", "low_lowsmooth_E2.fit"},           {"low-microfacet", "low_lowmicrofacet_E2.fit"},
-      {"low-cook-torrance", "low_cooktorrance_E1.fit"}, {"low-cook-torrance", "low_cooktorrance_E2.fit"},
+      {"low-smooth", "low_lowsmooth_E2.fit"},
+      {"low-microfacet", "low_lowmicrofacet_E2.fit"},
+      {"low-cook-torrance", "low_cooktorrance_E1.fit"},
+      {"low-cook-torrance", "low_cooktorrance_E2.fit"},
       {"low-ashikhmin-shirley", "low_ashikhminshirley_E1.fit"},
       {"low-ashikhmin-shirley", "low_ashikhminshirley_E2.fit"},
       {"sgd", "bagher_sgd.fit"}};
@@ -315,13 +318,14 @@ std::string error_of(const std::function<void()>& action) {
 }
 
 TEST(LowModels, BadPublishedLinesGiveClearErrors) {
-  const TempFile file("bad.fit",
-                      "good = Aggregate(Lambertian(albedo = [0.1, 0.1, 0.1]), LowSmooth(A = [1, 2, 3], B = 10, C = 1, "
-                      "eta = 1.5))\n"
-                      "noc = Aggregate(Lambertian(albedo = [0.1, 0.1, 0.1]), LowSmooth(A = [1, 2, 3], B = 10, eta = 1.5))\n"
-                      "flat = Bagher(albedo = [1, 1, 1], alpha = [0.1, 0.1, 0.1], p = [0.5, 0.5, 0.5], eta = [0.1, 0.2], "
-                      "K = [1, 1, 1], Lambda = [1, 1, 1], c = [1, 1, 1], k = [1, 1, 1], theta0 = [0, 0, 0])\n"
-                      "wardduer = NganWardDuer(albedo = [0.1, 0.1, 0.1], roughness = 0.1)\n");
+  const TempFile file(
+      "bad.fit",
+      "good = Aggregate(Lambertian(albedo = [0.1, 0.1, 0.1]), LowSmooth(A = [1, 2, 3], B = 10, C = 1, "
+      "eta = 1.5))\n"
+      "noc = Aggregate(Lambertian(albedo = [0.1, 0.1, 0.1]), LowSmooth(A = [1, 2, 3], B = 10, eta = 1.5))\n"
+      "flat = Bagher(albedo = [1, 1, 1], alpha = [0.1, 0.1, 0.1], p = [0.5, 0.5, 0.5], eta = [0.1, 0.2], "
+      "K = [1, 1, 1], Lambda = [1, 1, 1], c = [1, 1, 1], k = [1, 1, 1], theta0 = [0, 0, 0])\n"
+      "wardduer = NganWardDuer(albedo = [0.1, 0.1, 0.1], roughness = 0.1)\n");
   // The good line maps onto low-smooth only, with every value where BBM has it.
   const std::vector<PublishedFit> good = find_published_fits(file.path, "good");
   ASSERT_EQ(good.size(), 1u);
@@ -342,10 +346,12 @@ TEST(LowModels, BadPublishedLinesGiveClearErrors) {
 
 TEST(LowModels, ScorePublishedOnTheCommandLine) {
   // A tiny table: two samples of f·cosθi in directions (CSV), and a fit file naming it.
-  const TempFile table("tiny.csv", "lx,ly,lz,vx,vy,vz,r,g,b\n0,0,1,0,0,1,0.5,0.5,0.5\n0.6,0,0.8,-0.6,0,0.8,0.3,0.3,0.3\n");
+  const TempFile table("tiny.csv",
+                       "lx,ly,lz,vx,vy,vz,r,g,b\n0,0,1,0,0,1,0.5,0.5,0.5\n0.6,0,0.8,-0.6,0,0.8,0.3,0.3,0.3\n");
   const std::string material = std::filesystem::path(table.path).stem().string();
-  const TempFile fits("tiny.fit", material + " = Aggregate(Lambertian(albedo = [0.5, 0.5, 0.5]), LowCookTorrance(albedo "
-                                             "= [0.1, 0.1, 0.1], roughness = 0.2, eta = 1.5))\n");
+  const TempFile fits("tiny.fit", material +
+                                      " = Aggregate(Lambertian(albedo = [0.5, 0.5, 0.5]), LowCookTorrance(albedo "
+                                      "= [0.1, 0.1, 0.1], roughness = 0.2, eta = 1.5))\n");
   const test::CommandResult ok = test::run_cli("score " + table.path + " --published " + fits.path + " --json");
   ASSERT_EQ(ok.exit_code, 0) << ok.output;
   const auto json = nlohmann::json::parse(ok.output);
@@ -361,9 +367,11 @@ TEST(LowModels, ScorePublishedOnTheCommandLine) {
 
   for (const auto& [args, fragment] : std::vector<std::pair<std::string, std::string>>{
            {"score " + table.path + " --published " + fits.path + " --material other", "no material 'other'"},
-           {"score " + table.path + " --published " + fits.path + " --model ward", "give --model or --published, not both"},
+           {"score " + table.path + " --published " + fits.path + " --model ward",
+            "give --model or --published, not both"},
            {"score " + table.path, "or --published FILE.fit"},
-           {"score " + table.path + " --published " + fits.path + " --material a --name b", "give the line's name once"}}) {
+           {"score " + table.path + " --published " + fits.path + " --material a --name b",
+            "give the line's name once"}}) {
     SCOPED_TRACE(args);
     const test::CommandResult r = test::run_cli(args);
     EXPECT_NE(r.exit_code, 0);

@@ -55,7 +55,8 @@ TEST(Gltf, HandValues) {
     const Rgb<double> m = shade("gltf", {"baseColor=0.9,0.6,0.3", "metallic=1", "roughness=0.5"}, kNormal, kNormal);
     EXPECT_NEAR(m[1], 0.6 * vis * d, 1e-12);
     // Half metal: the linear mix.
-    const Rgb<double> half = shade("gltf", {"baseColor=0.6,0.6,0.6", "metallic=0.5", "roughness=0.5"}, kNormal, kNormal);
+    const Rgb<double> half =
+        shade("gltf", {"baseColor=0.6,0.6,0.6", "metallic=0.5", "roughness=0.5"}, kNormal, kNormal);
     EXPECT_NEAR(half[0], 0.5 * (0.96 * 0.6 / kPi + 0.04 * vis * d) + 0.5 * 0.6 * vis * d, 1e-12);
   }
   // l = n, v at 60°: h at 30°, v·h = cos30; roughness 1: α = 1, D = 1/π;
@@ -93,10 +94,12 @@ TEST(Gltf, EqualsGgxUpToShadowingAndDiffuse) {
     const std::string rough = "roughness=" + std::to_string(r);
     const double nl = l.z(), nv = v.z(), k = alpha / 2;
     const double g_schlick = nl / (nl * (1 - k) + k) * nv / (nv * (1 - k) + k);
-    const double g_height = 2 * nl * nv / (nv * std::sqrt(a2 + (1 - a2) * nl * nl) + nl * std::sqrt(a2 + (1 - a2) * nv * nv));
+    const double g_height =
+        2 * nl * nv / (nv * std::sqrt(a2 + (1 - a2) * nl * nl) + nl * std::sqrt(a2 + (1 - a2) * nv * nv));
     const Rgb<double> ggx_metal = shade("ggx", {"albedo=0", rough, "f0=0.9,0.5,0.2"}, l, v);
     const Rgb<double> gltf_metal = shade("gltf", {"baseColor=0.9,0.5,0.2", "metallic=1", rough}, l, v);
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(gltf_metal[c], ggx_metal[c] * g_height / g_schlick, 1e-12 * (1 + gltf_metal[c]));
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(gltf_metal[c], ggx_metal[c] * g_height / g_schlick, 1e-12 * (1 + gltf_metal[c]));
     const Rgb<double> ggx_coat = shade("ggx", {"albedo=0", rough, "f0=0.04"}, l, v);
     const Rgb<double> gltf_dielectric = shade("gltf", {"baseColor=0.3,0.6,0.9", "metallic=0", rough}, l, v);
     const double w = std::pow(1 - v.dot(half_vector(l, v)), 5), fd = 0.04 + 0.96 * w;
@@ -108,19 +111,19 @@ TEST(GltfSpecular, HandValues) {
   // l = v = n (w = 0): dielectric_f0 = min(((2-1)/(2+1))²·specularColor, 1)·specular = specularColor·0.8/9;
   // F_d = f0 per channel, max(F_d) = 0.8/9; f = F_d·V·D + (1 - 0.8/9)·base/π; V·D = 1/(4πα²).
   const double alpha = 0.16, vd = 1 / (4 * kPi * alpha * alpha);
-  const Rgb<double> s = shade("gltf-specular",
-                              {"baseColor=0.5,0.3,0.1", "metallic=0", "roughness=0.4", "ior=2", "specular=0.8",
-                               "specularColor=1,0.5,0.25"},
-                              kNormal, kNormal);
+  const Rgb<double> s = shade(
+      "gltf-specular",
+      {"baseColor=0.5,0.3,0.1", "metallic=0", "roughness=0.4", "ior=2", "specular=0.8", "specularColor=1,0.5,0.25"},
+      kNormal, kNormal);
   const double f0 = 0.8 / 9;
   EXPECT_NEAR(s[0], f0 * vd + (1 - f0) * 0.5 / kPi, 1e-12);
   EXPECT_NEAR(s[1], 0.5 * f0 * vd + (1 - f0) * 0.3 / kPi, 1e-12);
   EXPECT_NEAR(s[2], 0.25 * f0 * vd + (1 - f0) * 0.1 / kPi, 1e-12);
   // At 60° (w = (1-cos30)^5) f90 = specular = 0.8: F_d = f0 + (0.8 - f0)·w. Roughness 1: V·D = 1/(3π).
   const double w = std::pow(1 - kCos30, 5), fd = f0 + (0.8 - f0) * w;
-  const Rgb<double> g = shade("gltf-specular",
-                              {"baseColor=0.5", "metallic=0", "roughness=1", "ior=2", "specular=0.8", "specularColor=1"},
-                              kNormal, k60X);
+  const Rgb<double> g =
+      shade("gltf-specular", {"baseColor=0.5", "metallic=0", "roughness=1", "ior=2", "specular=0.8", "specularColor=1"},
+            kNormal, k60X);
   EXPECT_NEAR(g[0], fd / (3 * kPi) + (1 - fd) * 0.5 / kPi, 1e-12);
 }
 
@@ -153,15 +156,16 @@ TEST(Principled, HandValues) {
     const double r = 0.5, alpha = r * r, sub = 0.4, spec = 0.5, cc = 0.6, gloss = 0.3;
     const double a = 0.1 + (0.001 - 0.1) * gloss, a2 = a * a, dr = (a2 - 1) / (kPi * std::log(a2) * a2);
     const Rgb<double> s = shade("principled",
-                                {"baseColor=0.5,0.3,0.2", "metallic=0", "subsurface=0.4", "specular=0.5", "roughness=0.5",
-                                 "specularTint=0", "sheen=0", "clearcoat=0.6", "clearcoatGloss=0.3"},
+                                {"baseColor=0.5,0.3,0.2", "metallic=0", "subsurface=0.4", "specular=0.5",
+                                 "roughness=0.5", "specularTint=0", "sheen=0", "clearcoat=0.6", "clearcoatGloss=0.3"},
                                 kNormal, kNormal);
     const double diffuse_shape = (1 + (0.625 - 1) * sub) / kPi, cspec0 = 0.08 * spec;
-    const double expected_g = diffuse_shape * 0.3 + 0.25 * cspec0 / (kPi * alpha * alpha) + 0.25 * cc * 0.25 * 0.04 * dr;
+    const double expected_g =
+        diffuse_shape * 0.3 + 0.25 * cspec0 / (kPi * alpha * alpha) + 0.25 * cc * 0.25 * 0.04 * dr;
     EXPECT_NEAR(s[1], expected_g, 1e-12);
     // Metallic 1 with specularTint: C_spec0 = C, no diffuse.
-    const Rgb<double> m = shade("principled", {"baseColor=0.8,0.6,0.4", "metallic=1", "roughness=0.5", "clearcoat=0"},
-                                kNormal, kNormal);
+    const Rgb<double> m =
+        shade("principled", {"baseColor=0.8,0.6,0.4", "metallic=1", "roughness=0.5", "clearcoat=0"}, kNormal, kNormal);
     EXPECT_NEAR(m[2], 0.25 * 0.4 / (kPi * alpha * alpha), 1e-12);
     // specularTint 1: C_spec0 = 0.08·specular·C/lum(C), lum = 0.3·0.8 + 0.6·0.6 + 0.1·0.4 = 0.64.
     const Rgb<double> t = shade("principled",
@@ -174,8 +178,8 @@ TEST(Principled, HandValues) {
   // G_s = 1/(1 + 1)·1/(0.5 + 1) = 1/3; F_s = F_H = (1 - cos30)^5; sheen = F_H·sheen.
   {
     const double fh = std::pow(1 - kCos30, 5);
-    const Rgb<double> s = shade("principled", {"baseColor=0", "specular=0", "roughness=1", "sheen=0.7", "clearcoat=0"},
-                                kNormal, k60X);
+    const Rgb<double> s =
+        shade("principled", {"baseColor=0", "specular=0", "roughness=1", "sheen=0.7", "clearcoat=0"}, kNormal, k60X);
     EXPECT_NEAR(s[0], fh * 0.7 + fh / (3 * kPi), 1e-12);
   }
 }
@@ -192,28 +196,26 @@ TEST(OpenPbr, MetalHandValues) {
   // l = v = n: μ = l·h = 1, F82 = F0 = base_color; D = 1/(π αt αb), G2 = 1; f = F0·D/4,
   // anisotropy 0 (held): αt = αb = r².
   const double r = 0.5, alpha = r * r;
-  const Rgb<double> iso = shade("openpbr", {"base_color=0.9,0.7,0.5", "base_metalness=1", "specular_roughness=0.5"},
-                                kNormal, kNormal);
+  const Rgb<double> iso =
+      shade("openpbr", {"base_color=0.9,0.7,0.5", "base_metalness=1", "specular_roughness=0.5"}, kNormal, kNormal);
   EXPECT_NEAR(iso[1], 0.7 / (4 * kPi * alpha * alpha), 1e-12);
   // l = n, v at 60°: μ = cos30; r = 1: D = 1/π; Λ(l) = 0, Λ(v) = (√(1 + tan²60) - 1)/2 = 1/2, G2 = 2/3;
   // lobe = D·G2/(4·1·0.5) = 1/(3π). F82 = S(μ) - μ(1-μ)^6/(μ̄(1-μ̄)^6)·(1 - tint)·S(μ̄), μ̄ = 1/7.
   const double mu = kCos30, mb = 1.0 / 7, f0 = 0.8, tint = 0.6;
   const double schlick = f0 + (1 - f0) * std::pow(1 - mu, 5), schlick_bar = f0 + (1 - f0) * std::pow(1 - mb, 5);
   const double f82 = schlick - mu * std::pow(1 - mu, 6) / (mb * std::pow(1 - mb, 6)) * (1 - tint) * schlick_bar;
-  const Rgb<double> edge = shade("openpbr",
-                                 {"base_color=0.8", "base_metalness=1", "specular_roughness=1", "specular_color=0.6"},
-                                 kNormal, k60X);
+  const Rgb<double> edge = shade(
+      "openpbr", {"base_color=0.8", "base_metalness=1", "specular_roughness=1", "specular_color=0.6"}, kNormal, k60X);
   EXPECT_NEAR(edge[0], f82 / (3 * kPi), 1e-12);
   // The F82 edge reflectance at μ̄ is specular_color times Schlick's there: checked through the
   // same lobe at l·h = μ̄ (l = n, v at 2·acos(1/7) from it would go below the horizon, so use a
   // symmetric pair at θ = acos(1/7) around h = n: l·h = 1/7).
   const double theta = std::acos(mb);
   const Vec3 l(std::sin(theta), 0, mb), v(-std::sin(theta), 0, mb);
-  const Rgb<double> at_bar = shade("openpbr",
-                                   {"base_color=0.8", "base_metalness=1", "specular_roughness=1", "specular_color=0.6"},
-                                   l, v);
-  const Rgb<double> plain = shade("openpbr",
-                                  {"base_color=0.8", "base_metalness=1", "specular_roughness=1", "specular_color=1"}, l, v);
+  const Rgb<double> at_bar =
+      shade("openpbr", {"base_color=0.8", "base_metalness=1", "specular_roughness=1", "specular_color=0.6"}, l, v);
+  const Rgb<double> plain =
+      shade("openpbr", {"base_color=0.8", "base_metalness=1", "specular_roughness=1", "specular_color=1"}, l, v);
   EXPECT_NEAR(at_bar[0] / plain[0], tint, 1e-12);
 }
 
@@ -223,10 +225,12 @@ TEST(OpenPbr, DielectricAndDiffuseHandValues) {
   const double c45 = std::sqrt(0.5), eta = 1.7, r = 0.6, alpha = r * r;
   const double lambda = (std::sqrt(1 + alpha * alpha * 1.0) - 1) / 2;  // tan²45 = 1
   const double lobe = 1 / (kPi * alpha * alpha) / (1 + 2 * lambda) / (4 * 0.5);
-  const Rgb<double> diffuse_only = shade("openpbr", {"base_color=0.5", "specular_ior=1.7", "specular_roughness=0.6",
-                                                     "specular_color=0"}, dir(1, 0, 1), dir(-1, 0, 1));
-  const Rgb<double> both = shade("openpbr", {"base_color=0.5", "specular_ior=1.7", "specular_roughness=0.6",
-                                             "specular_color=0.5"}, dir(1, 0, 1), dir(-1, 0, 1));
+  const Rgb<double> diffuse_only =
+      shade("openpbr", {"base_color=0.5", "specular_ior=1.7", "specular_roughness=0.6", "specular_color=0"},
+            dir(1, 0, 1), dir(-1, 0, 1));
+  const Rgb<double> both =
+      shade("openpbr", {"base_color=0.5", "specular_ior=1.7", "specular_roughness=0.6", "specular_color=0.5"},
+            dir(1, 0, 1), dir(-1, 0, 1));
   EXPECT_NEAR((both[0] - diffuse_only[0]) / c45, 0.5 * fresnel_snell(c45, eta) * lobe, 1e-12);
 
   // EON at l = v = n with σ = 1 and no dielectric (ior 1): s = 0, Ê(1) = A, so

@@ -105,7 +105,8 @@ TEST(SeedBanded, HandValuesAndBandCount) {
     std::set<double> levels;
     for (int i = 1; i <= 10000; ++i) {
       const double z = i / 10000.0;
-      levels.insert(seed_shade1("banded", {"albedo=1", "steps=" + std::to_string(steps)}, Vec3(std::sqrt(1 - z * z), 0, z), kN));
+      levels.insert(
+          seed_shade1("banded", {"albedo=1", "steps=" + std::to_string(steps)}, Vec3(std::sqrt(1 - z * z), 0, z), kN));
     }
     EXPECT_EQ(levels.size(), static_cast<size_t>(steps)) << steps;
   }
@@ -128,8 +129,8 @@ TEST(SeedOrenNayar, HandValues) {
   // σ = 0.5: σ² = 0.25; A = 1 - 0.5·0.25/0.58, B = 0.17·0.25/0.38, C = 0.45·0.25/0.34.
   const double a = 1 - 0.5 * 0.25 / 0.58, b = 0.17 * 0.25 / 0.38, c = 0.45 * 0.25 / 0.34;
   // Mirror pair, n·l = n·v = 0.8: l·v = -0.36 + 0.64 = 0.28, s = 0.28 - 0.64 = -0.36 (not divided).
-  EXPECT_NEAR(seed_shade1("oren-nayar", {"albedo=0.5", "roughness=0.5"}, kL68, kL68m), 0.5 * 0.8 * (a + 0.5 * b - 0.36 * c),
-              1e-12);
+  EXPECT_NEAR(seed_shade1("oren-nayar", {"albedo=0.5", "roughness=0.5"}, kL68, kL68m),
+              0.5 * 0.8 * (a + 0.5 * b - 0.36 * c), 1e-12);
   // l with n·l = 0.6, v with n·v = 0.8, same plane: l·v = 0.48 + 0.48 = 0.96, s = 0.96 - 0.48 = 0.48,
   // divided by max(0.6, 0.8) → 0.6.
   EXPECT_NEAR(seed_shade1("oren-nayar", {"albedo=1", "roughness=0.5"}, kL86, kL68), 0.6 * (a + b + 0.6 * c), 1e-12);
@@ -151,8 +152,8 @@ TEST(SeedGaussian, HandValues) {
   // f = 0.4/π + 2·lobe, shade = f·0.8.
   {
     const double th = std::acos(0.8), lobe = 1.2 * std::exp(-(th / 0.5) * (th / 0.5));
-    EXPECT_NEAR(seed_shade1("gaussian", {"albedo=0.4", "specular=2", "m=0.5"}, kL68, kL68), (0.4 / kPi + 2 * lobe) * 0.8,
-                1e-12);
+    EXPECT_NEAR(seed_shade1("gaussian", {"albedo=0.4", "specular=2", "m=0.5"}, kL68, kL68),
+                (0.4 / kPi + 2 * lobe) * 0.8, 1e-12);
   }
   // Mirror pair at n·l = 0.6: θh = 0 → lobe 1.2, whatever m.
   EXPECT_NEAR(seed_shade1("gaussian", {"albedo=0", "specular=5", "m=0.01"}, kL86, kL86m), 6.0 * 0.6, 1e-12);
@@ -178,7 +179,8 @@ TEST(SeedBeckmann, HandValues) {
   EXPECT_NEAR(seed_shade1("beckmann", {"albedo=0", "specular=0.1", "m=0.5"}, kL86, kL86m), 0.24 / kPi, 1e-12);
   // View below the horizon with h horizontal (n·h = 0): the lobe is 0, the Lambert base stays:
   // albedo/π·n·l = 0.5/π·0.8 (the seed's formula is 0/0 there).
-  EXPECT_NEAR(seed_shade1("beckmann", {"albedo=0.5", "specular=1", "m=0.3"}, kL68, Vec3(0.6, 0, -0.8)), 0.4 / kPi, 1e-12);
+  EXPECT_NEAR(seed_shade1("beckmann", {"albedo=0.5", "specular=1", "m=0.3"}, kL68, Vec3(0.6, 0, -0.8)), 0.4 / kPi,
+              1e-12);
   // Grazing: l = (1,0,1e-100), v = (1,0,0): n·h = 5e-101 > 0, cos⁴θh underflows to 0 and
   // exp(-tan²/m²) to 0; the lobe is 0 (not 0/0): shade = 0.5/π·1e-100.
   EXPECT_NEAR(seed_shade1("beckmann", {"albedo=0.5", "specular=1", "m=0.3"}, Vec3(1, 0, 1e-100), Vec3(1, 0, 0)) * 1e100,
@@ -197,7 +199,8 @@ TEST(SeedToon, HandValues) {
   }
   // Rim: l = n (n·l^thr = 1), v.z = 0.3 → rimDot = 0.7; rim_amount 0.7 → middle of the ramp, 0.5.
   // n·h = 1.3/√2.6 ≈ 0.806, ^(32²) ≈ 0 → no highlight. shade = albedo·(1 + 0.5).
-  EXPECT_NEAR(seed_shade1("toon", {"albedo=0.4", "rim_amount=0.7"}, kN, Vec3(std::sqrt(0.91), 0, 0.3)), 0.4 * 1.5, 1e-9);
+  EXPECT_NEAR(seed_shade1("toon", {"albedo=0.4", "rim_amount=0.7"}, kN, Vec3(std::sqrt(0.91), 0, 0.3)), 0.4 * 1.5,
+              1e-9);
   // rim_threshold: n·l = 0.25, thr = 0.5 → 0.25^0.5 = 0.5; v.z = 0.1 → rimDot 0.9; 0.45 = rim_amount
   // → rim 0.5. v on the same side as l: n·h ≈ 0.18, ^(10²) ≈ 0 → no highlight. shade = 1 + 0.5.
   EXPECT_NEAR(seed_shade1("toon", {"albedo=1", "glossiness=10", "rim_amount=0.45", "rim_threshold=0.5"},
@@ -223,8 +226,8 @@ TEST(SeedModels, FiniteValuesAndDerivativesAtTheHorizon) {
                                   Vec3(0.6, 0, -0.8),
                                   Vec3(1, 0, -1e-100),
                                   kL68};
-  for (const char* name : {"half-lambert", "wrap", "phong", "blinn-phong", "banded", "minnaert", "oren-nayar", "gaussian",
-                           "beckmann", "toon"}) {
+  for (const char* name : {"half-lambert", "wrap", "phong", "blinn-phong", "banded", "minnaert", "oren-nayar",
+                           "gaussian", "beckmann", "toon"}) {
     SCOPED_TRACE(name);
     const Model& m = *find_model(name);
     for (int which = 0; which < 3; ++which) {

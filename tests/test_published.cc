@@ -12,7 +12,8 @@ namespace brdffit {
 namespace {
 
 TEST(PublishedFits, ParsesAndMapsNganTerms) {
-  const std::string path = std::filesystem::temp_directory_path() / ("published-" + std::to_string(::getpid()) + ".fit");
+  const std::string path =
+      std::filesystem::temp_directory_path() / ("published-" + std::to_string(::getpid()) + ".fit");
   write_file_atomic(path,
                     "# comment\n"
                     "m1 = Aggregate(Lambertian(albedo = [0.1, 0.2, 0.3]), NganWard(albedo = [0.01, 0.02, 0.03], "

@@ -66,8 +66,8 @@ TEST_P(MerlAgainstNgan, OurFitIsNoWorseThanThePublishedOne) {
   sampling.max_angle_deg = 80.0;  // as Ngan
   sampling.max_samples = 20000;
   const SampleSet data = load_samples(path, sampling);
-  for (const auto& [model_name, file] : {std::pair<const char*, const char*>{"ward", "ngan_ward.fit"},
-                                         {"cook-torrance", "ngan_cooktorrance.fit"}}) {
+  for (const auto& [model_name, file] :
+       {std::pair<const char*, const char*>{"ward", "ngan_ward.fit"}, {"cook-torrance", "ngan_cooktorrance.fit"}}) {
     SCOPED_TRACE(model_name);
     const Model& model = *find_model(model_name);
     const auto published = find_published_fit(kPublishedFits + "/" + file, GetParam(), model);
@@ -75,10 +75,11 @@ TEST_P(MerlAgainstNgan, OurFitIsNoWorseThanThePublishedOne) {
     const double theirs = evaluate_metrics(model, published->values, data).cosine;
     const FitResult ours = fit(model_name, data);
     EXPECT_LE(ours.metrics.cosine, theirs * (1.0 + 1e-6)) << "published " << theirs;
-    }
+  }
 }
 
-INSTANTIATE_TEST_SUITE_P(RealData, MerlAgainstNgan, ::testing::Values("gold-metallic-paint", "blue-acrylic", "red-fabric"),
+INSTANTIATE_TEST_SUITE_P(RealData, MerlAgainstNgan,
+                         ::testing::Values("gold-metallic-paint", "blue-acrylic", "red-fabric"),
                          [](const ::testing::TestParamInfo<const char*>& info) {
                            std::string name = info.param;
                            std::replace(name.begin(), name.end(), '-', '_');

@@ -70,8 +70,8 @@ TEST(Render, SliceAndCurvesOfALambertianAreFlat) {
   const FitResult fit = lambert_fit(0.3, 0.3, 0.3);
   const BrdfFunction f = fitted_brdf(lambert, fit);
   const cv::Mat slice = half_diff_slice(f, 32);
-  EXPECT_NEAR(slice.at<cv::Vec3f>(0, 0)[1], 0.3 / kPi, 1e-6);     // θh, θd near 0
-  EXPECT_NEAR(slice.at<cv::Vec3f>(31, 31)[1], 0.3 / kPi, 1e-6);   // both near 90°: n·l = cosθh·cosθd > 0 still
+  EXPECT_NEAR(slice.at<cv::Vec3f>(0, 0)[1], 0.3 / kPi, 1e-6);    // θh, θd near 0
+  EXPECT_NEAR(slice.at<cv::Vec3f>(31, 31)[1], 0.3 / kPi, 1e-6);  // both near 90°: n·l = cosθh·cosθd > 0 still
   for (double value : in_plane_curve(f, 45.0, 19)) EXPECT_NEAR(value, 0.3 / kPi, 1e-9);
 
   FitResult wrong = fit;
@@ -132,7 +132,8 @@ TEST(RenderCli, WritesToneMappedPngAndLinearExr) {
   EXPECT_NEAR(read_image(dir + "/s.exr").at<cv::Vec3f>(32, 32)[1], shade_g, 1e-6);
 
   // The PNG holds tone_map's display value, sRGB-encoded in 8 bits.
-  const auto png = test::run_cli("render " + doc + " --model lambert --size 65 --reference 0.1 --out " + dir + "/s.png");
+  const auto png =
+      test::run_cli("render " + doc + " --model lambert --size 65 --reference 0.1 --out " + dir + "/s.png");
   ASSERT_EQ(png.exit_code, 0) << png.output;
   const double v = shade_g / 0.1, expected = v * (1 + v / 16) / (1 + v);
   const ImageInfo info = read_image_info(dir + "/s.png");
@@ -144,18 +145,18 @@ TEST(RenderCli, WritesToneMappedPngAndLinearExr) {
   const Model& lambert = *find_model("lambert");
   const std::vector<double> grey = parameter_values(lambert, {"albedo=0.5"});
   write_merl(dir + "/table.binary", [&](const Vec3& l, const Vec3& v) { return *lambert.brdf(grey.data(), l, v); });
-  const auto table = test::run_cli("render " + dir + "/table.binary --light 0,1,0 --view 0,0,1 --size 33 --out " + dir + "/t.exr");
+  const auto table =
+      test::run_cli("render " + dir + "/table.binary --light 0,1,0 --view 0,0,1 --size 33 --out " + dir + "/t.exr");
   ASSERT_EQ(table.exit_code, 0) << table.output;
   const cv::Mat side = read_image(dir + "/t.exr");
   EXPECT_GT(side.at<cv::Vec3f>(2, 16)[0], 0.1f);   // the top of the sphere faces the light
   EXPECT_EQ(side.at<cv::Vec3f>(30, 16)[0], 0.0f);  // the bottom is in shadow
 
   test::expect_cli_errors(
-      {
-          {"render " + doc + " --out " + dir + "/x.png", "choose the model to render with --model (lambert)"},
-          {"render " + doc + " --model ggx --out " + dir + "/x.png", "has no ggx result (it has lambert)"},
-          {"render " + dir + "/table.binary --light 0,0,0 --out " + dir + "/x.png", "non-zero directions"},
-          {"render " + dir + "/nothing.binary --out " + dir + "/x.png", "nothing.binary"}},
+      {{"render " + doc + " --out " + dir + "/x.png", "choose the model to render with --model (lambert)"},
+       {"render " + doc + " --model ggx --out " + dir + "/x.png", "has no ggx result (it has lambert)"},
+       {"render " + dir + "/table.binary --light 0,0,0 --out " + dir + "/x.png", "non-zero directions"},
+       {"render " + dir + "/nothing.binary --out " + dir + "/x.png", "nothing.binary"}},
       dir + "/x.png");
 }
 

@@ -2,9 +2,9 @@
 // image a valid PNG, and Debian's headless Chromium loading it without a missing image.
 #include <gtest/gtest.h>
 
+#include <openssl/evp.h>
 #include <cstdio>
 #include <filesystem>
-#include <openssl/evp.h>
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -26,11 +26,13 @@ class Report : public ::testing::Test {
     bake(dir_ + "/tables/plastic.binary", "ggx", {"albedo=0.25,0.1,0.05", "roughness=0.3", "f0=0.04"});
     bake(dir_ + "/tables/brushed.binary", "ward", {"albedo=0.05", "specular=0.3,0.25,0.1", "alpha=0.15"});
     test::write_model_csv(dir_ + "/tables/samples.csv", "lambert", {"albedo=0.4,0.4,0.2"});
-    batch_ = test::run_cli("batch " + dir_ + "/tables --models ggx,lambert,ward --max-samples 20000 --out " + dir_ + "/fits");
+    batch_ = test::run_cli("batch " + dir_ + "/tables --models ggx,lambert,ward --max-samples 20000 --out " + dir_ +
+                           "/fits");
     report_ = test::run_cli("report " + dir_ + "/fits --size 96 --out " + dir_ + "/report.html");
   }
 
-  static void bake(const std::string& path, const std::string& model_name, const std::vector<std::string>& assignments) {
+  static void bake(const std::string& path, const std::string& model_name,
+                   const std::vector<std::string>& assignments) {
     const Model& model = *find_model(model_name);
     const std::vector<double> values = parameter_values(model, assignments);
     write_merl(path, [&](const Vec3& l, const Vec3& v) { return *model.brdf(values.data(), l, v); });
@@ -75,7 +77,8 @@ cv::Mat decode_png_data_uri(const std::string& uri) {
   if (uri.rfind(prefix, 0) != 0) return cv::Mat();
   const std::string base64 = uri.substr(prefix.size());
   std::vector<unsigned char> bytes(base64.size());
-  const int n = EVP_DecodeBlock(bytes.data(), reinterpret_cast<const unsigned char*>(base64.data()), static_cast<int>(base64.size()));
+  const int n = EVP_DecodeBlock(bytes.data(), reinterpret_cast<const unsigned char*>(base64.data()),
+                                static_cast<int>(base64.size()));
   if (n < 0) return cv::Mat();
   bytes.resize(static_cast<size_t>(n));  // EVP_DecodeBlock counts the padding: PNG ignores trailing bytes
   return cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
@@ -119,11 +122,13 @@ cv::Mat picture(const std::string& html, const std::string& material, const std:
 TEST_F(Report, TheMeasuredSphereAndTheBestFitLookAlike) {
   // On the ggx-baked table ggx ranks first, and its pictures match the measured ones.
   const std::string html = page();
-  const cv::Mat measured = picture(html, "plastic", "measured sphere"), fitted = picture(html, "plastic", "1. ggx sphere");
+  const cv::Mat measured = picture(html, "plastic", "measured sphere"),
+                fitted = picture(html, "plastic", "1. ggx sphere");
   ASSERT_FALSE(measured.empty());
   ASSERT_FALSE(fitted.empty());
   EXPECT_LT(cv::norm(measured, fitted, cv::NORM_L1) / cv::norm(measured, cv::NORM_L1), 0.03);
-  const cv::Mat measured_slice = picture(html, "plastic", "measured slice"), fitted_slice = picture(html, "plastic", "1. ggx slice");
+  const cv::Mat measured_slice = picture(html, "plastic", "measured slice"),
+                fitted_slice = picture(html, "plastic", "1. ggx slice");
   ASSERT_FALSE(fitted_slice.empty());
   EXPECT_LT(cv::norm(measured_slice, fitted_slice, cv::NORM_L1) / cv::norm(measured_slice, cv::NORM_L1), 0.03);
 }
@@ -145,7 +150,8 @@ TEST_F(Report, ChromiumLoadsThePageWithEveryImage) {
   const std::string browser = "timeout 180 " + chromium +
                               " --headless --no-sandbox --disable-gpu --disable-quic --no-first-run"
                               " --disable-background-networking --disable-component-update --disable-sync"
-                              " --user-data-dir=" + profile + " --window-size=1280,2000 ";
+                              " --user-data-dir=" +
+                              profile + " --window-size=1280,2000 ";
   const std::string url = "file://" + dir_ + "/report.html";
 
   const test::CommandResult screenshot = test::run_command(browser + "--screenshot=" + shot + " " + url);

@@ -269,7 +269,9 @@ TEST(Rgl, RejectsMalformedContainersNamingTheFileAndTheProblem) {
   expect_error([] { parse_edited("twice.bsdf", [](auto& fields) { fields[1].name = "theta_i"; }); },
                {"twice.bsdf", "field 'theta_i' appears twice"});
   expect_error(
-      [] { parse_edited("huge.bsdf", [](auto& fields) { field_named(fields, "ndf").shape = {1ull << 40, 1ull << 40}; }); },
+      [] {
+        parse_edited("huge.bsdf", [](auto& fields) { field_named(fields, "ndf").shape = {1ull << 40, 1ull << 40}; });
+      },
       {"huge.bsdf", "truncated", "field 'ndf' of shape [1099511627776", "does not fit"});
 }
 
@@ -285,18 +287,33 @@ TEST(Rgl, RejectsBadFieldsNamingTheFileFieldAndProblem) {
   expect_error([] { parse_edited("int.bsdf", [](auto& f) { field_named(f, "description").type = test::kUInt32; }); },
                {"int.bsdf", "field 'description' is uint32, expected uint8"});
   // Shapes.
-  expect_error([] { parse_edited("rank.bsdf", [](auto& f) { field_named(f, "ndf").shape = {3, 17, 1}; }); },
+  expect_error([] { parse_edited("rank.bsdf", [](auto& f) {
+                      field_named(f, "ndf").shape = {3, 17, 1};
+                    }); },
                {"rank.bsdf", "field 'ndf' has rank 3 (shape [3, 17, 1]), expected 2"});
-  expect_error([] { parse_edited("vndf.bsdf", [](auto& f) { field_named(f, "vndf").shape = {1, 4, 15, 20}; }); },
+  expect_error([] { parse_edited("vndf.bsdf", [](auto& f) {
+                      field_named(f, "vndf").shape = {1, 4, 15, 20};
+                    }); },
                {"vndf.bsdf", "field 'vndf' has shape [1, 4, 15, 20], expected [1, 5, *, *]"});
-  expect_error([] { parse_edited("rgb.bsdf", [](auto& f) { field_named(f, "rgb").shape = {1, 5, 4, 24, 18}; }); },
+  expect_error([] { parse_edited("rgb.bsdf", [](auto& f) {
+                      field_named(f, "rgb").shape = {1, 5, 4, 24, 18};
+                    }); },
                {"rgb.bsdf", "field 'rgb' has shape [1, 5, 4, 24, 18], expected [1, 5, 3, *, *]"});
-  expect_error([] { parse_edited("thin.bsdf", [](auto& f) { field_named(f, "ndf").shape = {51, 1}; }); },
+  expect_error([] { parse_edited("thin.bsdf", [](auto& f) {
+                      field_named(f, "ndf").shape = {51, 1};
+                    }); },
                {"thin.bsdf", "field 'ndf' has a 51x1 table, at least 2x2 needed"});
-  expect_error([] { parse_edited("theta.bsdf", [](auto& f) { field_named(f, "theta_i") = test::float_values("theta_i", {0.5f}); }); },
-               {"theta.bsdf", "'theta_i' at least 2"});
-  expect_error([] { parse_edited("jacobian.bsdf", [](auto& f) { field_named(f, "jacobian") = test::bytes_field("jacobian", "ab"); }); },
-               {"jacobian.bsdf", "field 'jacobian' has shape [2], expected [1]"});
+  expect_error(
+      [] {
+        parse_edited("theta.bsdf", [](auto& f) { field_named(f, "theta_i") = test::float_values("theta_i", {0.5f}); });
+      },
+      {"theta.bsdf", "'theta_i' at least 2"});
+  expect_error(
+      [] {
+        parse_edited("jacobian.bsdf",
+                     [](auto& f) { field_named(f, "jacobian") = test::bytes_field("jacobian", "ab"); });
+      },
+      {"jacobian.bsdf", "field 'jacobian' has shape [2], expected [1]"});
   // Values.
   auto set_float = [](TensorField& field, size_t index, float value) {
     std::memcpy(field.data.data() + 4 * index, &value, 4);

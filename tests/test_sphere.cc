@@ -39,9 +39,10 @@ void expect_error(Body&& body, const std::vector<std::string>& parts) {
 
 const std::string kDiligentBall = BRDFFIT_SHARED_DIR "/data/diligent-ball";
 
-#define SKIP_WITHOUT_DILIGENT()                                                              \
-  SKIP_UNLESS_SHARED(fs::exists(kDiligentBall + "/filenames.txt"),                           \
-                     "the DiLiGenT ball at " << kDiligentBall << " (research use only, never copied into the project)")
+#define SKIP_WITHOUT_DILIGENT()                     \
+  SKIP_UNLESS_SHARED(                               \
+      fs::exists(kDiligentBall + "/filenames.txt"), \
+      "the DiLiGenT ball at " << kDiligentBall << " (research use only, never copied into the project)")
 
 const Model& ggx() { return *find_model("ggx"); }
 std::vector<double> ggx_truth() {
@@ -148,8 +149,8 @@ TEST(SphereGeometry, NormalMapCheckMeasuresHowFarTheSphereIsOff) {
   EXPECT_LT(exact.median_deg, 0.01);
   EXPECT_GT(exact.pixels, 1900u);  // π·25.2² ≈ 1995 pixels
   // A sphere found 2 pixels too far right: the normals tilt by asin(2/25.2) ≈ 4.6° at the centre.
-  const NormalCheck shifted = check_normals(SphereView(Circle{42.3, 35.7, 25.2}, Camera{}), dir + "/normals.png",
-                                            encoded.size(), cv::Mat());
+  const NormalCheck shifted =
+      check_normals(SphereView(Circle{42.3, 35.7, 25.2}, Camera{}), dir + "/normals.png", encoded.size(), cv::Mat());
   EXPECT_GT(shifted.median_deg, 3.0);
   expect_error([&] { check_normals(truth, dir + "/normals.png", cv::Size(81, 72), cv::Mat()); },
                {"normals.png", "80x72 pixels, the photographs 81x72"});
@@ -217,7 +218,8 @@ TEST(SphereLocation, NoSphereIsAClearErrorNamingTheFile) {
     const std::string path = dir + "/" + name;
     expect_error([&] { detect_sphere(read_image(path), path); }, {path, "no sphere found"});
   }
-  expect_error([&] { circle_from_mask(read_mask(dir + "/square.png"), "square mask"); }, {"square mask", "not one disc"});
+  expect_error([&] { circle_from_mask(read_mask(dir + "/square.png"), "square mask"); },
+               {"square mask", "not one disc"});
   expect_error([&] { circle_from_mask(read_mask(dir + "/black.png"), "black mask"); }, {"black mask", "empty"});
 }
 
@@ -250,14 +252,18 @@ TEST(SphereLights, ChromeBallGivesTheLightsWithinOneDegree) {
     const SphereView ball(circle_from_mask(read_mask(scene.mask), scene.mask), Camera{});
     double worst = 0.0;
     for (size_t i = 0; i < lights.size(); ++i)
-      worst = std::max(worst, test::angle_deg(light_from_chrome(read_image(scene.images[i]), ball, scene.images[i]), lights[i]));
+      worst = std::max(
+          worst, test::angle_deg(light_from_chrome(read_image(scene.images[i]), ball, scene.images[i]), lights[i]));
     EXPECT_LT(worst, 1.0);
     std::printf("chrome ball (%s, mask): worst light direction error %.3f deg over %zu lights\n",
                 encoding == Encoding::Srgb8 ? "8-bit sRGB, clipped" : "16-bit linear, clipped", worst, lights.size());
   }
   const cv::Mat black(100, 100, CV_32FC3, cv::Scalar::all(0.0));
-  expect_error([&] { light_from_chrome(black, SphereView(Circle{50, 50, 30}, Camera{}), "black.png"); },
-               {"black.png", "no highlight"});
+  expect_error(
+      [&] {
+        light_from_chrome(black, SphereView(Circle{50, 50, 30}, Camera{}), "black.png");
+      },
+      {"black.png", "no highlight"});
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -276,7 +282,8 @@ void expect_recovered(const SphereObservation& observation, const std::vector<do
     EXPECT_LT(error, tolerance) << what << ": value " << i << " is " << fit.values[i] << ", truth " << truth[i];
     worst = std::max(worst, error);
   }
-  std::printf("%s: %zu samples, worst relative parameter error %.2f%%\n", what, observation.samples.size(), 100 * worst);
+  std::printf("%s: %zu samples, worst relative parameter error %.2f%%\n", what, observation.samples.size(),
+              100 * worst);
 }
 
 TEST(SphereRecovery, SixteenBitLinearWithNoise) {
@@ -357,11 +364,17 @@ TEST(SpherePipeline, BadInputIsAClearErrorNamingTheFile) {
                {"small.png", "10x10", "320x256"});
   expect_error([&] { observe_sphere(input_with([&](SphereInput& in) { in.images.pop_back(); })); },
                {scene.lights, "3 light directions for 2 images"});
-  expect_error([&] { observe_sphere(input_with([&](SphereInput& in) { in.lights.clear(); })); }, {"no light directions"});
+  expect_error([&] { observe_sphere(input_with([&](SphereInput& in) { in.lights.clear(); })); },
+               {"no light directions"});
   expect_error([&] { observe_sphere(input_with([&](SphereInput& in) { in.mask = dir + "/small.png"; })); },
                {"small.png", "10x10"});
   expect_error(
-      [&] { observe_sphere(input_with([&](SphereInput& in) { in.chrome = {scene.images[0]}; in.lights.clear(); })); },
+      [&] {
+        observe_sphere(input_with([&](SphereInput& in) {
+          in.chrome = {scene.images[0]};
+          in.lights.clear();
+        }));
+      },
       {"1 chrome-ball photographs for 3 images"});
   // Every light behind the sphere: nothing usable.
   write_file_atomic(dir + "/behind.txt", "0 0 -1\n0 0 -1\n0 0 -1\n");
@@ -391,7 +404,8 @@ TEST(SphereCli, FitsWritesTheDocumentAndImages) {
   EXPECT_NEAR(doc["sphere"]["radius"].get<double>(), scene.outline.radius, 0.3);
   EXPECT_EQ(doc["sphere"]["camera"]["model"], "orthographic");
   EXPECT_GT(doc["pixels"]["used"].get<size_t>(), 10000u);
-  for (const char* key : {"shadow", "grazing", "saturated", "dark", "on_sphere"}) EXPECT_TRUE(doc["pixels"].contains(key)) << key;
+  for (const char* key : {"shadow", "grazing", "saturated", "dark", "on_sphere"})
+    EXPECT_TRUE(doc["pixels"].contains(key)) << key;
   ASSERT_EQ(doc["lights"].size(), 5u);
   const std::vector<Vec3> lights = test::dome_lights(5);
   EXPECT_NEAR(doc["lights"][4][0].get<double>(), lights[4].x(), 1e-6);

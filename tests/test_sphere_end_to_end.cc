@@ -67,7 +67,8 @@ TEST(SphereEndToEnd, PerspectiveMixedExposuresAndChromeLightsAgainstAnIndependen
   std::filesystem::create_directories(dir);
   const PinholeScene scene;
   const Model& ggx = *find_model("ggx");
-  const std::vector<double> truth = parameter_values(ggx, {"albedo=0.5,0.35,0.2", "roughness=0.3", "f0=0.04,0.05,0.06"});
+  const std::vector<double> truth =
+      parameter_values(ggx, {"albedo=0.5,0.35,0.2", "roughness=0.3", "f0=0.04,0.05,0.06"});
   const std::vector<double> chrome = parameter_values(ggx, {"albedo=0.08", "roughness=0.08", "f0=0.95"});
   const std::vector<Vec3> lights = test::dome_lights(8, 45.0);
   const double exposures[] = {1.0, 0.5, 1.5, 0.25, 1.0, 0.75, 1.25, 0.5};
@@ -104,8 +105,7 @@ TEST(SphereEndToEnd, PerspectiveMixedExposuresAndChromeLightsAgainstAnIndependen
   options.loss = LossKind::Huber;
   const FitResult fit = fit_model(ggx, observation.samples, options);
   ASSERT_TRUE(fit.ok) << fit.error;
-  for (size_t i = 0; i < truth.size(); ++i)
-    EXPECT_NEAR(fit.values[i], truth[i], 0.05 * truth[i]) << "value " << i;
+  for (size_t i = 0; i < truth.size(); ++i) EXPECT_NEAR(fit.values[i], truth[i], 0.05 * truth[i]) << "value " << i;
   std::filesystem::remove_all(dir);
 }
 

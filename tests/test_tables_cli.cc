@@ -68,15 +68,15 @@ TEST(TableCli, LookupGivesTheMeasuredMerlBin) {
     double raw[3];
     for (int c = 0; c < 3; ++c)
       std::memcpy(&raw[c], bytes.data() + 12 + (c * size_t(90 * 90 * 180) + (52 * 90 + 2) * 180 + 53) * 8, 8);
-    const Rgb<double> nearest = rgb_of(
-        json_output(run_cli("lookup " + proxy + " --light 0.2,0.6,1 --view 0.25,0.5,1 --interp nearest --json"))["brdf"]);
+    const Rgb<double> nearest = rgb_of(json_output(
+        run_cli("lookup " + proxy + " --light 0.2,0.6,1 --view 0.25,0.5,1 --interp nearest --json"))["brdf"]);
     EXPECT_DOUBLE_EQ(nearest[0], raw[0] / 1500);
     EXPECT_DOUBLE_EQ(nearest[1], raw[1] * 1.15 / 1500);
     EXPECT_DOUBLE_EQ(nearest[2], raw[2] * 1.66 / 1500);
     const Rgb<double> trilinear =
         rgb_of(json_output(run_cli("lookup " + proxy + " --light 0.2,0.6,1 --view 0.25,0.5,1 --json"))["brdf"]);
-    const Rgb<double> expected = MerlTable::read(proxy).lookup(Vec3(0.2, 0.6, 1).normalized(),
-                                                               Vec3(0.25, 0.5, 1).normalized(), Interpolation::Trilinear);
+    const Rgb<double> expected = MerlTable::read(proxy).lookup(
+        Vec3(0.2, 0.6, 1).normalized(), Vec3(0.25, 0.5, 1).normalized(), Interpolation::Trilinear);
     for (int c = 0; c < 3; ++c) EXPECT_DOUBLE_EQ(trilinear[c], expected[c]);
   }
 }
@@ -109,7 +109,8 @@ TEST(TableCli, BakeWritesAModelAsAMerlTable) {
         const auto [l, v] = test::pair_from_angles(u * u * 90, id + 0.5, ip + 0.5, 0.0);
         const bool invalid = l.z() <= 0 || v.z() <= 0;
         below += invalid;
-        if (invalid != (test::raw_bin(bytes, 0, ih, id, ip) == -1.0)) ADD_FAILURE() << "bin " << ih << "," << id << "," << ip;
+        if (invalid != (test::raw_bin(bytes, 0, ih, id, ip) == -1.0))
+          ADD_FAILURE() << "bin " << ih << "," << id << "," << ip;
       }
   const MerlTable table = MerlTable::read(path);
   EXPECT_EQ(table.invalid_bins(), below);
@@ -160,7 +161,8 @@ TEST(TableCli, ErrorsNameTheFileOrOptionAndTheProblem) {
     const auto r = run_cli(arguments);
     EXPECT_NE(r.exit_code, 0) << arguments;
     EXPECT_NE(r.exit_code, 2) << "an internal error: " << r.output;
-    for (const std::string& f : fragments) EXPECT_NE(r.output.find(f), std::string::npos) << arguments << ": " << r.output;
+    for (const std::string& f : fragments)
+      EXPECT_NE(r.output.find(f), std::string::npos) << arguments << ": " << r.output;
   }
   EXPECT_FALSE(test::fs::exists(missing));
 }

@@ -3,8 +3,8 @@
 // started from the one-lobe optimum is never worse.
 #include <gtest/gtest.h>
 
-#include "aniso_tables.h"
 #include <unistd.h>
+#include "aniso_tables.h"
 
 #include <filesystem>
 
@@ -33,7 +33,8 @@ TEST(TwoLobes, ParametersOfBothLobesShareOneAlbedo) {
   EXPECT_EQ(ggx2->name(), "ggx+ggx");
   // GGX's f0 at 0 leaves Schlick's (1-l·h)^5: the second lobe gets a weight, and its f0 is
   // stored multiplied by the weight, so both stay linear.
-  EXPECT_EQ(names_of(*ggx2), (std::vector<std::string>{"albedo", "roughness", "f0", "roughness_2", "f0_2", "weight_2"}));
+  EXPECT_EQ(names_of(*ggx2),
+            (std::vector<std::string>{"albedo", "roughness", "f0", "roughness_2", "f0_2", "weight_2"}));
   EXPECT_TRUE(ggx2->find_parameter("f0")->linear);
   EXPECT_TRUE(ggx2->find_parameter("f0_2")->linear);
   EXPECT_TRUE(ggx2->find_parameter("weight_2")->linear);
@@ -50,8 +51,8 @@ TEST(TwoLobes, HandValues) {
   // lobe's F is f0_2 at normal incidence (its stored f0 is already w·f0):
   // f = albedo/π + f0/(4π α₁²) + f0₂/(4π α₂²).
   const Model& ggx2 = *find_model("ggx+ggx");
-  const std::vector<double> values = parameter_values(
-      ggx2, {"albedo=0.2", "roughness=0.5", "f0=0.04", "roughness_2=0.3", "f0_2=0.9", "weight_2=0.5"});
+  const std::vector<double> values =
+      parameter_values(ggx2, {"albedo=0.2", "roughness=0.5", "f0=0.04", "roughness_2=0.3", "f0_2=0.9", "weight_2=0.5"});
   const Vec3 n(0, 0, 1);
   const double expected = 0.2 / kPi + 0.04 / (4 * kPi * std::pow(0.25, 2)) + 0.9 / (4 * kPi * std::pow(0.09, 2));
   EXPECT_NEAR(ggx2.shade(values.data(), n, n)[1], expected, 1e-12);
@@ -67,8 +68,8 @@ TEST(TwoLobes, HandValues) {
               (0.2 / kPi + lobe(0.25, 0.04 + 0.96 * m5) + lobe(0.09, 0.9 + (0.5 - 0.9) * m5)) * 0.5, 1e-12);
   // Cook-Torrance at l = v = n: D = 1/(π m²), G = 1, F = f0: lobe = specular·f0/(π m²)/π.
   const Model& ct2 = *find_model("cook-torrance+cook-torrance");
-  const std::vector<double> ct_values =
-      parameter_values(ct2, {"albedo=0.1", "specular=0.5", "f0=0.2", "m=0.3", "specular_2=0.25", "f0_2=0.8", "m_2=0.1"});
+  const std::vector<double> ct_values = parameter_values(
+      ct2, {"albedo=0.1", "specular=0.5", "f0=0.2", "m=0.3", "specular_2=0.25", "f0_2=0.8", "m_2=0.1"});
   EXPECT_NEAR(ct2.shade(ct_values.data(), n, n)[0],
               0.1 / kPi + 0.5 * 0.2 / (kPi * 0.09) / kPi + 0.25 * 0.8 / (kPi * 0.01) / kPi, 1e-12);
   // Below the horizon: nothing.
@@ -112,8 +113,8 @@ TEST(TwoLobes, JacobianBatchCostMatchesBatchCost) {
   const std::vector<int> free = {0, 2, 3, 4, 6};  // the others fixed
   const ceres::CauchyLoss cauchy(0.05);
   for (Metric metric : {Metric::Cosine, Metric::Log, Metric::Relative})
-    for (const ceres::LossFunction* loss : {static_cast<const ceres::LossFunction*>(nullptr),
-                                            static_cast<const ceres::LossFunction*>(&cauchy)}) {
+    for (const ceres::LossFunction* loss :
+         {static_cast<const ceres::LossFunction*>(nullptr), static_cast<const ceres::LossFunction*>(&cauchy)}) {
       ResidualBatch batch{data.samples.data(), data.size(), metric, {true, true, false}, loss, &free, &at};
       std::vector<double> x;
       for (int i : free) x.push_back(at[i] * 1.01);
@@ -123,7 +124,8 @@ TEST(TwoLobes, JacobianBatchCostMatchesBatchCost) {
         std::vector<double> r(rows), j(rows * cols);
         double* jacobians[] = {j.data()};
         EXPECT_TRUE(cost.Evaluate(parameters, r.data(), jacobians));
-        const Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> jm(j.data(), rows, cols);
+        const Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> jm(j.data(), rows,
+                                                                                                    cols);
         const Eigen::Map<Eigen::VectorXd> rv(r.data(), rows);
         return std::tuple{rv.squaredNorm(), Eigen::VectorXd(jm.transpose() * rv), Eigen::MatrixXd(jm.transpose() * jm)};
       };

@@ -4,9 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <array>
-#include <filesystem>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <random>
 #include <string>
 #include <vector>
@@ -50,12 +50,12 @@ inline bool running_in_ci() {
 
 // Skips the test when data beside the project (../shared) is absent, saying what is missing;
 // fails under CI=true. `what` may be a stream expression: "the MERL proxies (" << dir << ")".
-#define SKIP_UNLESS_SHARED(present, what)                                                            \
-  do {                                                                                               \
-    if (!(present)) {                                                                                \
+#define SKIP_UNLESS_SHARED(present, what)                                                             \
+  do {                                                                                                \
+    if (!(present)) {                                                                                 \
       if (::brdffit::test::running_in_ci()) FAIL() << what << " absent, and CI=true needs ../shared"; \
       GTEST_SKIP() << what << " absent (the shared data beside the project is not mounted)";          \
-    }                                                                                                \
+    }                                                                                                 \
   } while (0)
 
 // Samples of `model` at `values` over random direction pairs with both z >= min_z, each value
@@ -98,7 +98,9 @@ inline CommandResult run_command(const std::string& command) {
   return result;
 }
 
-inline CommandResult run_cli(const std::string& arguments) { return run_command(std::string(BRDFFIT_CLI) + " " + arguments); }
+inline CommandResult run_cli(const std::string& arguments) {
+  return run_command(std::string(BRDFFIT_CLI) + " " + arguments);
+}
 
 // A command line and a part of the error message it must print.
 struct CliErrorCase {

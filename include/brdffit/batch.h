@@ -31,11 +31,11 @@ std::vector<BatchMaterial> batch_materials(const std::vector<std::string>& input
 
 struct BatchOptions {
   std::vector<const Model*> models;
-  FitOptions fit;             // fit.threads: threads per material; 0: the cores shared among the jobs
+  FitOptions fit;  // fit.threads: threads per material; 0: the cores shared among the jobs
   SamplingOptions sampling;
   std::string out_dir;
-  int jobs = 1;               // materials fitted at once
-  bool resume = false;        // skip materials whose result document is complete and current
+  int jobs = 1;         // materials fitted at once
+  bool resume = false;  // skip materials whose result document is complete and current
   // Fit nothing: take every material's complete and current document (as resume does), and
   // record a material without one as failed. The merge step after the shards of a batch
   // (batch_shard.h) ran, for the summary.
@@ -55,10 +55,10 @@ const char* material_status_name(MaterialStatus status);  // "ok", "partial", "f
 struct MaterialOutcome {
   BatchMaterial material;
   MaterialStatus status = MaterialStatus::Failed;
-  bool resumed = false;          // skipped: its document was already complete
-  std::string error;             // Failed: why; Partial: which models failed
-  std::string result_path;       // empty when Failed
-  std::vector<FitResult> fits;   // the models' results (read back when resumed)
+  bool resumed = false;         // skipped: its document was already complete
+  std::string error;            // Failed: why; Partial: which models failed
+  std::string result_path;      // empty when Failed
+  std::vector<FitResult> fits;  // the models' results (read back when resumed)
   double seconds = 0.0;
 };
 

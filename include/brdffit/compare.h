@@ -26,9 +26,9 @@ struct RankedModel {
 };
 
 struct MaterialRanking {
-  std::string material;  // the input's file name without extension (the document's, if two share it)
-  std::string document;  // path of the result document
-  std::string input;     // the measured table the document names
+  std::string material;             // the input's file name without extension (the document's, if two share it)
+  std::string document;             // path of the result document
+  std::string input;                // the measured table the document names
   std::vector<RankedModel> models;  // best first; failed fits last
 
   const RankedModel* find(const std::string& model) const;
@@ -36,12 +36,12 @@ struct MaterialRanking {
 
 struct ModelSummary {
   std::string model;
-  int materials = 0;  // materials whose document has this model
-  int failed = 0;     // of those, where its fit failed
-  int poor = 0;       // of those, where its fit was judged poor
+  int materials = 0;                            // materials whose document has this model
+  int failed = 0;                               // of those, where its fit failed
+  int poor = 0;                                 // of those, where its fit was judged poor
   double mean_error = NAN, median_error = NAN;  // over the materials where it fitted
   double mean_rank = NAN;
-  int wins = 0;       // materials where its rank is 1
+  int wins = 0;  // materials where its rank is 1
 };
 
 struct Comparison {

@@ -20,22 +20,22 @@ namespace brdffit {
 enum class LossKind { None, Huber, Cauchy };
 
 struct FitOptions {
-  Metric metric = Metric::Cosine;   // what is minimised; every metric is reported
-  bool per_channel = false;         // shape parameters fitted per channel (colours always are)
-  LossKind loss = LossKind::None;   // robust loss per sample-channel (photographs)
-  double loss_scale = 0.0;          // residual scale where the robust loss bends; 0 = automatic
-  int threads = 0;                  // 0 = all cores
-  int max_iterations = 100;         // trust-region iterations per stage
-  int grid_points = 256;            // multi-start grid size over the shape parameters (at most)
-  int starts = 3;                   // best grid points refined on the subsample
-  size_t subsample = 12000;         // samples used by the grid and the first refinements
+  Metric metric = Metric::Cosine;  // what is minimised; every metric is reported
+  bool per_channel = false;        // shape parameters fitted per channel (colours always are)
+  LossKind loss = LossKind::None;  // robust loss per sample-channel (photographs)
+  double loss_scale = 0.0;         // residual scale where the robust loss bends; 0 = automatic
+  int threads = 0;                 // 0 = all cores
+  int max_iterations = 100;        // trust-region iterations per stage
+  int grid_points = 256;           // multi-start grid size over the shape parameters (at most)
+  int starts = 3;                  // best grid points refined on the subsample
+  size_t subsample = 12000;        // samples used by the grid and the first refinements
   // After a subset of at least polish_after samples, the stage on all samples only polishes:
   // the importance subset's optimum is within a fraction of a percent of the full one in every
   // metric (bench_fit --converge shows the difference), and each step on a million samples costs ten on the subset.
   size_t polish_after = 100000;
   int polish_iterations = 2;
-  uint64_t seed = 1;                // for the subsample
-  bool single_start = false;        // one refinement from the initial values on all samples
+  uint64_t seed = 1;                   // for the subsample
+  bool single_start = false;           // one refinement from the initial values on all samples
   std::vector<double> initial_values;  // flattened start; empty: the model's defaults
 };
 
@@ -56,19 +56,19 @@ const char* verdict_name(Verdict verdict);
 struct FitResult {
   std::string model;
   bool ok = false;
-  std::string error;                      // why the fit failed, when !ok
+  std::string error;  // why the fit failed, when !ok
   Verdict verdict = Verdict::Failed;
   // One line each, for a user: why the verdict is poor, parameters at a bound or not
   // identifiable and what that means, what the fitter pinned and why.
   std::vector<std::string> warnings;
-  std::vector<double> values;             // flattened, in the model's parameter order
+  std::vector<double> values;  // flattened, in the model's parameter order
   // With per_channel: the full value vector fitted for each channel (R, G, B); a channel's
   // prediction uses its own vector. `values` then holds channel R's shape parameters.
   std::vector<std::vector<double>> channel_values;
   std::vector<ParameterEstimate> parameters;
   Metrics metrics;
   int iterations = 0;
-  std::string termination;                // Ceres' termination type and message
+  std::string termination;  // Ceres' termination type and message
   double seconds = 0.0;
   size_t samples = 0;
 };

@@ -60,8 +60,7 @@ struct Material {
 
 // The material `model` (a renderer model) closest to `source_model` with `values`, through their
 // shared metallic-roughness core (see above). Throws Error when source_model has no core.
-Material convert_material(const std::string& source_model, const std::vector<double>& values,
-                          const std::string& model);
+Material convert_material(const std::string& source_model, const std::vector<double>& values, const std::string& model);
 
 struct ExportRequest {
   MaterialFormat format = MaterialFormat::Gltf;

@@ -11,12 +11,12 @@ namespace brdffit {
 
 // Summary of a table for `brdffit info`.
 struct TableInfo {
-  std::string format;       // "merl", "rgl", "csv"
-  std::string resolution;   // e.g. "90x90x180"
-  size_t valid = 0;         // bins (or rows) with a measurement
-  size_t invalid = 0;       // bins with none (negative in MERL files)
+  std::string format;                                                // "merl", "rgl", "csv"
+  std::string resolution;                                            // e.g. "90x90x180"
+  size_t valid = 0;                                                  // bins (or rows) with a measurement
+  size_t invalid = 0;                                                // bins with none (negative in MERL files)
   Rgb<double> min = Rgb<double>::Zero(), max = Rgb<double>::Zero();  // over valid values of f
-  Rgb<double> albedo = Rgb<double>::Zero();  // directional albedo at normal incidence
+  Rgb<double> albedo = Rgb<double>::Zero();                          // directional albedo at normal incidence
 
   // Widens [min, max] to include a valid value (the first one sets both).
   void include_in_range(const Rgb<double>& f) {

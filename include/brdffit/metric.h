@@ -58,8 +58,6 @@ T metric_residual(Metric metric, const T& predicted, double measured) {
   return predicted - measured;
 }
 
-inline double metric_weight(Metric metric, double sample_weight) {
-  return metric == Metric::L2 ? 1.0 : sample_weight;
-}
+inline double metric_weight(Metric metric, double sample_weight) { return metric == Metric::L2 ? 1.0 : sample_weight; }
 
 }  // namespace brdffit

@@ -33,10 +33,10 @@ struct ResidualBatch;  // fit_residual.h
 // other value at the outer model's default.
 struct Nesting {
   struct Copy {
-    std::string to, from;                 // outer and inner parameter names
+    std::string to, from;                   // outer and inner parameter names
     double (*transform)(double) = nullptr;  // inner value -> outer value; nullptr: unchanged
   };
-  std::string inner;                                  // the contained model's name
+  std::string inner;  // the contained model's name
   std::vector<Copy> copies;
   std::vector<std::pair<std::string, double>> fixed;  // outer parameter = value (every channel)
   // true: the mapped values reproduce the inner model's shaded values exactly (the guarantee
@@ -52,7 +52,7 @@ class Model {
   virtual const std::string& name() const = 0;
   virtual const std::string& summary() const = 0;  // one line: formula and source
   virtual const std::vector<ParamSpec>& parameters() const = 0;
-  virtual bool has_brdf() const = 0;          // physically based: f exists and is reciprocal
+  virtual bool has_brdf() const = 0;  // physically based: f exists and is reciprocal
   // Every lobe is normalised: inside the bounds each linear parameter's term alone (and what
   // remains with all of them at 0, e.g. Schlick's grazing Fresnel) has directional albedo <= 1.
   // The terms are not coupled, so their sum can exceed 1 (albedo 1 plus a lobe).

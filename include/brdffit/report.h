@@ -24,9 +24,9 @@ namespace brdffit {
 struct ReportOptions {
   std::optional<Metric> metric;  // ranking metric; default: the one the documents were fitted with
   SphereLighting lighting;
-  int sphere_size = 160;         // pixels
+  int sphere_size = 160;  // pixels
   int slice_size = 128;
-  int top = 0;                   // picture the best `top` models of each material; 0: all
+  int top = 0;                                             // picture the best `top` models of each material; 0: all
   std::vector<double> incidence_deg = {20.0, 45.0, 70.0};  // in-plane curves
   // Called after each material's pictures (index from 0), e.g. for progress lines.
   std::function<void(size_t index, size_t count, const std::string& material)> progress;

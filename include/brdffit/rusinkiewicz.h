@@ -71,8 +71,8 @@ struct HalfDiffGrid {
     const double sin_theta_d0 = std::sin(double(i_theta_d) / theta_d_bins * (kPi / 2));
     const double sin_theta_d1 = std::sin(double(i_theta_d + 1) / theta_d_bins * (kPi / 2));
     const double d_phi_d = phi_d_period / phi_d_bins;
-    return 4 * (std::cos(theta_h0) - std::cos(theta_h1)) * 0.5 * (sin_theta_d1 * sin_theta_d1 - sin_theta_d0 * sin_theta_d0) *
-           d_phi_d * 2 * kPi;
+    return 4 * (std::cos(theta_h0) - std::cos(theta_h1)) * 0.5 *
+           (sin_theta_d1 * sin_theta_d1 - sin_theta_d0 * sin_theta_d0) * d_phi_d * 2 * kPi;
   }
 
   // Calls visit(iθh, iθd, iφd, l, v, weight) for every bin whose centre pair lies above the

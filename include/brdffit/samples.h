@@ -10,10 +10,10 @@
 namespace brdffit {
 
 struct Sample {
-  Vec3 l;              // unit direction towards the light, local frame (n = +z)
-  Vec3 v;              // unit direction towards the viewer
-  Rgb<double> value;   // measured shaded value f(l,v)·cosθi per channel
-  double weight = 1.0; // relative importance, e.g. the solid angle a table bin covers
+  Vec3 l;               // unit direction towards the light, local frame (n = +z)
+  Vec3 v;               // unit direction towards the viewer
+  Rgb<double> value;    // measured shaded value f(l,v)·cosθi per channel
+  double weight = 1.0;  // relative importance, e.g. the solid angle a table bin covers
 };
 
 struct SampleSet {

@@ -28,7 +28,7 @@ struct Circle {
 };
 
 struct Camera {
-  double focal_px = 0.0;  // focal length in pixels; 0: orthographic
+  double focal_px = 0.0;                        // focal length in pixels; 0: orthographic
   double principal_x = 0.0, principal_y = 0.0;  // perspective only
 
   bool perspective() const { return focal_px > 0.0; }
@@ -164,7 +164,8 @@ using ShadeFunction = std::function<Rgb<double>(const Vec3& l, const Vec3& v)>;
 // size that shows the sphere (0 elsewhere), each pixel in its own shading frame: linear RGB, CV_32FC3.
 cv::Mat render_sphere(const ShadeFunction& shade, const SphereView& sphere, const Vec3& light, cv::Size size);
 // The same for a model's values (shade_fitted).
-cv::Mat render_sphere(const Model& model, const std::vector<double>& values, const SphereView& sphere, const Vec3& light,
-                      cv::Size size, const std::vector<std::vector<double>>& per_channel_values = {});
+cv::Mat render_sphere(const Model& model, const std::vector<double>& values, const SphereView& sphere,
+                      const Vec3& light, cv::Size size,
+                      const std::vector<std::vector<double>>& per_channel_values = {});
 
 }  // namespace brdffit

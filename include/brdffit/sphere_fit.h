@@ -38,10 +38,10 @@ struct SphereInput {
   std::string mask;                 // where the sphere is, and which pixels may be used (detected when empty)
   std::string normals;              // a ground-truth normal map to check the located sphere against (optional)
   Decoding decoding;
-  double focal_px = 0.0;            // perspective camera with this focal length in pixels; 0: orthographic
+  double focal_px = 0.0;  // perspective camera with this focal length in pixels; 0: orthographic
   PixelRules rules;
-  size_t max_gathered = 2000000;    // at most about this many samples are gathered: larger spheres are
-                                    // sampled on a coarser regular pixel grid (all pixels are still counted)
+  size_t max_gathered = 2000000;  // at most about this many samples are gathered: larger spheres are
+                                  // sampled on a coarser regular pixel grid (all pixels are still counted)
 };
 
 // Every file `input` names (images, chrome photographs, lights, masks, ...), for checking that
@@ -64,25 +64,25 @@ struct PixelCounts {
 
 struct SphereImage {
   std::string path;
-  Vec3 light = Vec3::UnitZ();           // unit, camera frame
+  Vec3 light = Vec3::UnitZ();                   // unit, camera frame
   Rgb<double> intensity = Rgb<double>::Ones();  // E (ones when unknown)
-  double exposure = 1.0;                // t/t₀
-  Rgb<double> gain = Rgb<double>::Ones();  // value = pixel · gain = pixel / (E · t/t₀ · s)
-  bool clips = false;                   // integer file: full scale means clipped
-  double full_scale = 1.0;              // see classify_pixel
+  double exposure = 1.0;                        // t/t₀
+  Rgb<double> gain = Rgb<double>::Ones();       // value = pixel · gain = pixel / (E · t/t₀ · s)
+  bool clips = false;                           // integer file: full scale means clipped
+  double full_scale = 1.0;                      // see classify_pixel
   PixelCounts pixels;
   size_t first_sample = 0, samples = 0;  // this image's range in SphereObservation::samples
 };
 
 struct SphereObservation {
   SphereView sphere;
-  std::string located_by;        // "mask FILE" or "detection"
+  std::string located_by;  // "mask FILE" or "detection"
   cv::Size image_size;
-  cv::Mat mask;                  // CV_8U, empty when none was given
-  size_t sphere_pixels = 0;      // pixels that show the sphere (and lie in the mask)
-  int grid_step = 1;             // samples were gathered from every grid_step-th pixel in x and y
+  cv::Mat mask;              // CV_8U, empty when none was given
+  size_t sphere_pixels = 0;  // pixels that show the sphere (and lie in the mask)
+  int grid_step = 1;         // samples were gathered from every grid_step-th pixel in x and y
   std::vector<SphereImage> images;
-  std::string lights_from;       // the lights file, or "chrome"
+  std::string lights_from;  // the lights file, or "chrome"
   std::optional<SphereView> chrome_ball;
   std::optional<NormalCheck> normals;  // when SphereInput::normals was given
   bool intensities_known = false;
@@ -109,7 +109,7 @@ struct PhotoError {
 // Where compare_with_photographs writes, for every image and model, the measured values, the
 // fitted model's rendering and a heatmap of their difference side by side, cropped to the sphere.
 struct PanelOutput {
-  std::string dir;  // empty: no images; else dir/<model>/<index>_<image name>.<format>
+  std::string dir;             // empty: no images; else dir/<model>/<index>_<image name>.<format>
   std::string format = "png";  // png: sRGB, white at 1.25× the 99th percentile of the values;
                                // exr: the values themselves. The heatmap is full at 20% of that white;
                                // grey marks pixels left out, black lies off the sphere.

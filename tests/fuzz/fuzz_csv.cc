@@ -23,7 +23,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (again.size() != set.size()) std::abort();
   // The same samples in the same order: directions and weights to rounding, values too (they are
   // written as f = value/cosθi and read back times cosθi).
-  const auto near = [](double a, double b) { return std::abs(a - b) <= 1e-12 * std::max(std::abs(a), std::abs(b)) + 1e-300; };
+  const auto near = [](double a, double b) {
+    return std::abs(a - b) <= 1e-12 * std::max(std::abs(a), std::abs(b)) + 1e-300;
+  };
   for (size_t i = 0; i < set.size(); ++i) {
     const brdffit::Sample &a = set.samples[i], &b = again.samples[i];
     for (int k = 0; k < 3; ++k)

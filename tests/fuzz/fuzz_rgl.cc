@@ -15,7 +15,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   } catch (const brdffit::Error&) {
     return 0;
   }
-  const Vec3 directions[] = {{0, 0, 1}, {0.3, 0.1, 0.9}, {-0.2, 0.4, 0.8}, {1, 0, 1e-9}, {-1, -1e-7, 0.02}, {0, -1, 0.3}};
+  const Vec3 directions[] = {{0, 0, 1},    {0.3, 0.1, 0.9},   {-0.2, 0.4, 0.8},
+                             {1, 0, 1e-9}, {-1, -1e-7, 0.02}, {0, -1, 0.3}};
   for (const Vec3& l : directions)
     for (const Vec3& v : directions) {
       const brdffit::Rgb<double> f = brdf->eval(l.normalized(), v.normalized());

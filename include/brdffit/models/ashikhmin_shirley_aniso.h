@@ -34,10 +34,12 @@ struct AshikhminShirleyAniso {
     auto exponent = [](const char* name, const char* meaning) {
       return ParamSpec{name, 1, 0.1, 100000.0, 50.0, meaning, Role::Exponent, false, false, Spacing::Log};
     };
-    return {albedo_param(), specular_param(1.0, 0.2, "scale of the specular lobe per channel"),
+    return {albedo_param(),
+            specular_param(1.0, 0.2, "scale of the specular lobe per channel"),
             {"f0", 1, 0.0, 1.0, 0.1, "Fresnel reflectance at normal incidence (Schlick)", Role::F0},
             exponent("n_u", "exponent along the tangent (x) axis: larger is sharper"),
-            exponent("n_v", "exponent along the bitangent (y) axis"), tangent_rotation_param()};
+            exponent("n_v", "exponent along the bitangent (y) axis"),
+            tangent_rotation_param()};
   }
 
   static std::vector<Nesting> nestings() {

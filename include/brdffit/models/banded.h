@@ -31,7 +31,10 @@ struct Banded {
   }
 
   static std::vector<Nesting> nestings() {
-    return {{"lambert", {{"albedo", "albedo", lambert_albedo_to_shader_albedo}}, {{"steps", 32.0}}, false,
+    return {{"lambert",
+             {{"albedo", "albedo", lambert_albedo_to_shader_albedo}},
+             {{"steps", 32.0}},
+             false,
              "lambert, approximately: 32 bands of n·l"}};
   }
 

@@ -21,14 +21,18 @@ struct Beckmann {
   enum : int { kAlbedo = 0, kSpecular = 3, kM = 6, kNumValues = 7 };
 
   static std::vector<ParamSpec> parameters() {
-    return {albedo_param(), specular_param(10.0, 0.2, "scale of the Beckmann lobe per channel"),
+    return {albedo_param(),
+            specular_param(10.0, 0.2, "scale of the Beckmann lobe per channel"),
             {"m", 1, 0.005, 1.5, 0.3, "Beckmann roughness: RMS slope of the microfacets", Role::Roughness, false, false,
              Spacing::Log}};
   }
 
   static std::vector<Nesting> nestings() {
     return {lambert_under_lobe(),
-            {"ggx", {{"albedo", "albedo"}, {"m", "roughness", ggx_roughness_to_beckmann_m}}, {}, false,
+            {"ggx",
+             {{"albedo", "albedo"}, {"m", "roughness", ggx_roughness_to_beckmann_m}},
+             {},
+             false,
              "ggx, approximately: m = roughness²"}};
   }
 

@@ -30,7 +30,10 @@ struct BlinnPhong {
 
   static std::vector<Nesting> nestings() {
     return {lambert_in_shader({{"specular", 0.0}}, "specular = 0"),
-            {"phong", {{"albedo", "albedo"}, {"specular", "specular"}, {"gloss", "shininess", times_four}}, {}, false,
+            {"phong",
+             {{"albedo", "albedo"}, {"specular", "specular"}, {"gloss", "shininess", times_four}},
+             {},
+             false,
              "phong, approximately: a Blinn exponent of 4x the Phong one gives a similar highlight"}};
   }
   static double times_four(double x) { return 4.0 * x; }

@@ -8,8 +8,14 @@
 namespace brdffit::models {
 
 inline ParamSpec albedo_param(double default_value = 0.5) {
-  return {"albedo", 3, 0.0, 1.0, default_value, "diffuse reflectance per channel (directional albedo of the Lambert term)",
-          Role::DiffuseColour, /*linear=*/true};
+  return {"albedo",
+          3,
+          0.0,
+          1.0,
+          default_value,
+          "diffuse reflectance per channel (directional albedo of the Lambert term)",
+          Role::DiffuseColour,
+          /*linear=*/true};
 }
 
 inline ParamSpec specular_param(double upper, double default_value, const char* meaning) {
@@ -41,7 +47,11 @@ T beckmann_ndf(double cos_theta_h, const T& m) {
 // holds every lobe once (a lobe turned by 120° is found at 30° with its widths exchanged) and
 // fits of the same data agree.
 inline ParamSpec tangent_rotation_param() {
-  return {"phi0", 1, 0.0, 90.0, 30.0,
+  return {"phi0",
+          1,
+          0.0,
+          90.0,
+          30.0,
           "rotation of the lobe's x axis about the normal from the table's x axis, in degrees (x, y widths "
           "exchanged: +90°)",
           Role::Shape};
@@ -66,7 +76,10 @@ TangentXY<T> in_tangent_frame(const Vec3& d, const T& phi0_degrees) {
 // Lambert inside a lobe over the same Lambert base: the lobe's linear scale at 0 leaves exactly
 // albedo/π.
 inline Nesting lambert_under_lobe(const std::string& scale = "specular") {
-  return {"lambert", {{"albedo", "albedo"}}, {{scale, 0.0}}, true,
+  return {"lambert",
+          {{"albedo", "albedo"}},
+          {{scale, 0.0}},
+          true,
           "lambert: " + scale + " = 0 switches the lobe off and leaves the same Lambert base"};
 }
 
@@ -74,7 +87,10 @@ inline Nesting lambert_under_lobe(const std::string& scale = "specular") {
 // carries it), so Lambert's albedo a is their albedo a/π.
 inline double lambert_albedo_to_shader_albedo(double a) { return a * kInvPi; }
 inline Nesting lambert_in_shader(std::vector<std::pair<std::string, double>> fixed, const std::string& why) {
-  return {"lambert", {{"albedo", "albedo", lambert_albedo_to_shader_albedo}}, std::move(fixed), true,
+  return {"lambert",
+          {{"albedo", "albedo", lambert_albedo_to_shader_albedo}},
+          std::move(fixed),
+          true,
           "lambert: " + why + " gives albedo·n·l, Lambert with its albedo/π"};
 }
 

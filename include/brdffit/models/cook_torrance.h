@@ -38,8 +38,8 @@ struct CookTorrance {
   static std::vector<ParamSpec> parameters() {
     return {albedo_param(),
             specular_param(1.0, 0.2, "scale of the specular lobe per channel (Ngan's NganCookTorrance albedo)"),
-            {"f0", 1, 0.0, 1.0, 0.1, "Fresnel reflectance at normal incidence (Schlick); Ngan's 'eta'", Role::F0,
-             false, false, Spacing::Linear, "specular"},
+            {"f0", 1, 0.0, 1.0, 0.1, "Fresnel reflectance at normal incidence (Schlick); Ngan's 'eta'", Role::F0, false,
+             false, Spacing::Linear, "specular"},
             {"m", 1, 0.001, 1.0, 0.2, "Beckmann roughness: RMS slope of the microfacets (Ngan's roughness)",
              Role::Roughness, false, false, Spacing::Log}};
   }

@@ -23,7 +23,8 @@ struct Gaussian {
   enum : int { kAlbedo = 0, kSpecular = 3, kM = 6, kNumValues = 7 };
 
   static std::vector<ParamSpec> parameters() {
-    return {albedo_param(), specular_param(1000.0, 0.2, "scale of the Gaussian lobe per channel (1/sr)"),
+    return {albedo_param(),
+            specular_param(1000.0, 0.2, "scale of the Gaussian lobe per channel (1/sr)"),
             {"m", 1, 0.005, 1.5, 0.3, "width of the lobe in radians of the half angle", Role::Roughness, false, false,
              Spacing::Log}};
   }

@@ -31,16 +31,25 @@ struct Ggx {
     return {albedo_param(),
             {"roughness", 1, 0.01, 1.0, 0.5, "perceptual roughness; the GGX width is alpha = roughness²",
              Role::Roughness, false, false, Spacing::Log},
-            {"f0", 3, 0.0, 1.0, 0.04, "specular reflectance at normal incidence per channel (Schlick F0)",
-             Role::F0, /*linear=*/true}};
+            {"f0", 3, 0.0, 1.0, 0.04, "specular reflectance at normal incidence per channel (Schlick F0)", Role::F0,
+             /*linear=*/true}};
   }
 
   static std::vector<Nesting> nestings() {
-    return {{"lambert", {{"albedo", "albedo"}}, {{"f0", 0.0}, {"roughness", 1.0}}, false,
+    return {{"lambert",
+             {{"albedo", "albedo"}},
+             {{"f0", 0.0}, {"roughness", 1.0}},
+             false,
              "lambert, approximately: f0 = 0 leaves Schlick's (1-l·h)^5 grazing term; roughness 1 spreads it"},
-            {"beckmann", {{"albedo", "albedo"}, {"roughness", "m", beckmann_m_to_ggx_roughness}}, {}, false,
+            {"beckmann",
+             {{"albedo", "albedo"}, {"roughness", "m", beckmann_m_to_ggx_roughness}},
+             {},
+             false,
              "beckmann, approximately: roughness = √m"},
-            {"cook-torrance", {{"albedo", "albedo"}, {"roughness", "m", beckmann_m_to_ggx_roughness}}, {}, false,
+            {"cook-torrance",
+             {{"albedo", "albedo"}, {"roughness", "m", beckmann_m_to_ggx_roughness}},
+             {},
+             false,
              "cook-torrance, approximately: roughness = √m"}};
   }
 

@@ -39,10 +39,11 @@ struct GgxAniso {
       return ParamSpec{name, 1, 1e-4, 1.0, 0.25, meaning, Role::Roughness, false, false, Spacing::Log};
     };
     return {albedo_param(),
-            {"f0", 3, 0.0, 1.0, 0.04, "specular reflectance at normal incidence per channel (Schlick F0)",
-             Role::F0, /*linear=*/true},
+            {"f0", 3, 0.0, 1.0, 0.04, "specular reflectance at normal incidence per channel (Schlick F0)", Role::F0,
+             /*linear=*/true},
             width("alpha_x", "GGX width along the tangent (x) axis (ggx's roughness²)"),
-            width("alpha_y", "GGX width along the bitangent (y) axis"), tangent_rotation_param()};
+            width("alpha_y", "GGX width along the bitangent (y) axis"),
+            tangent_rotation_param()};
   }
 
   static std::vector<Nesting> nestings() {
@@ -51,7 +52,10 @@ struct GgxAniso {
              {{"phi0", 0.0}},
              true,
              "equal widths α_x = α_y = roughness²"},
-            {"lambert", {{"albedo", "albedo"}}, {{"f0", 0.0}, {"alpha_x", 1.0}, {"alpha_y", 1.0}}, false,
+            {"lambert",
+             {{"albedo", "albedo"}},
+             {{"f0", 0.0}, {"alpha_x", 1.0}, {"alpha_y", 1.0}},
+             false,
              "lambert, approximately: f0 = 0 leaves Schlick's (1-l·h)^5 grazing term; widths 1 spread it"}};
   }
 

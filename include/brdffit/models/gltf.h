@@ -30,9 +30,8 @@ namespace brdffit::models {
 //   F_d = f0 + (f90 - f0)(1 - |v·h|)^5,   dielectric = F_d·V·D + (1 - max(F_d))·baseColor/π,
 // which is Appendix B's for f0 = 0.04 (grey) and f90 = 1.
 template <class T>
-Rgb<T> gltf_metallic_roughness(const T* base_color, const T& metallic, const T& roughness,
-                               const Rgb<T>& dielectric_f0, const T& dielectric_f90, const Vec3& l,
-                               const Vec3& v) {
+Rgb<T> gltf_metallic_roughness(const T* base_color, const T& metallic, const T& roughness, const Rgb<T>& dielectric_f0,
+                               const T& dielectric_f90, const Vec3& l, const Vec3& v) {
   using std::sqrt;
   const double nl = l.z(), nv = v.z();
   Rgb<T> f(T(0.0), T(0.0), T(0.0));
@@ -43,8 +42,8 @@ Rgb<T> gltf_metallic_roughness(const T* base_color, const T& metallic, const T& 
   const T alpha = roughness * roughness, alpha2 = alpha * alpha;
   const T denom = nh * nh * (alpha2 - 1.0) + 1.0;
   const T d = nh > 0.0 ? T(alpha2 / (kPi * denom * denom)) : T(0.0);
-  const T vis = 1.0 / (2.0 * (nv * sqrt(alpha2 + (1.0 - alpha2) * (nl * nl)) +
-                              nl * sqrt(alpha2 + (1.0 - alpha2) * (nv * nv))));
+  const T vis =
+      1.0 / (2.0 * (nv * sqrt(alpha2 + (1.0 - alpha2) * (nl * nl)) + nl * sqrt(alpha2 + (1.0 - alpha2) * (nv * nv))));
   const T specular = vis * d;
   Rgb<T> dielectric_fresnel;
   for (int c = 0; c < 3; ++c) dielectric_fresnel[c] = dielectric_f0[c] + (dielectric_f90 - dielectric_f0[c]) * w;
@@ -60,15 +59,20 @@ Rgb<T> gltf_metallic_roughness(const T* base_color, const T& metallic, const T& 
 }
 
 inline ParamSpec gltf_base_color_param() {
-  return {"baseColor", 3, 0.0, 1.0, 0.5,
-          "glTF baseColorFactor (linear RGB): diffuse colour of the dielectric, F0 of the metal", Role::DiffuseColour,
+  return {"baseColor",
+          3,
+          0.0,
+          1.0,
+          0.5,
+          "glTF baseColorFactor (linear RGB): diffuse colour of the dielectric, F0 of the metal",
+          Role::DiffuseColour,
           /*linear=*/true};
 }
 inline ParamSpec gltf_metallic_param() {
   return {"metallic", 1, 0.0, 1.0, 0.0, "glTF metallicFactor: 0 dielectric, 1 metal, mixed linearly in between"};
 }
 inline ParamSpec gltf_roughness_param() {
-  return {"roughness", 1, 0.01, 1.0, 0.5, "glTF roughnessFactor; the GGX width is alpha = roughness²",
+  return {"roughness",     1,     0.01,  1.0,         0.5, "glTF roughnessFactor; the GGX width is alpha = roughness²",
           Role::Roughness, false, false, Spacing::Log};
 }
 
@@ -92,7 +96,10 @@ struct Gltf {
   }
 
   static std::vector<Nesting> nestings() {
-    return {{"lambert", {{"baseColor", "albedo"}}, {{"metallic", 0.0}, {"roughness", 1.0}}, /*exact=*/false,
+    return {{"lambert",
+             {{"baseColor", "albedo"}},
+             {{"metallic", 0.0}, {"roughness", 1.0}},
+             /*exact=*/false,
              "a rough dielectric with Lambert's albedo as baseColor (its 4% specular lobe remains)"}};
   }
 };

@@ -26,16 +26,25 @@ struct GltfSpecular {
   // Appendix B ("Coupling Diffuse and Specular Reflection"): weighting the diffuse term by
   // 1 - F(v·h) breaks energy conservation; at grazing views the albedo exceeds 1.
   static constexpr bool kEnergyConserving = false;
-  enum : int { kBaseColor = 0, kMetallic = 3, kRoughness = 4, kIor = 5, kSpecular = 6, kSpecularColor = 7, kNumValues = 10 };
+  enum : int {
+    kBaseColor = 0,
+    kMetallic = 3,
+    kRoughness = 4,
+    kIor = 5,
+    kSpecular = 6,
+    kSpecularColor = 7,
+    kNumValues = 10
+  };
 
   static std::vector<ParamSpec> parameters() {
-    return {gltf_base_color_param(),
-            gltf_metallic_param(),
-            gltf_roughness_param(),
-            {"ior", 1, 1.0, 3.0, 1.5, "KHR_materials_ior: index of refraction; dielectric F0 = ((ior-1)/(ior+1))²"},
-            {"specular", 1, 0.0, 1.0, 1.0, "KHR_materials_specular specularFactor: strength of the dielectric reflection"},
-            {"specularColor", 3, 0.0, 1.0, 1.0, "KHR_materials_specular specularColorFactor: tint of the dielectric F0",
-             Role::SpecularColour}};
+    return {
+        gltf_base_color_param(),
+        gltf_metallic_param(),
+        gltf_roughness_param(),
+        {"ior", 1, 1.0, 3.0, 1.5, "KHR_materials_ior: index of refraction; dielectric F0 = ((ior-1)/(ior+1))²"},
+        {"specular", 1, 0.0, 1.0, 1.0, "KHR_materials_specular specularFactor: strength of the dielectric reflection"},
+        {"specularColor", 3, 0.0, 1.0, 1.0, "KHR_materials_specular specularColorFactor: tint of the dielectric F0",
+         Role::SpecularColour}};
   }
 
   template <class T>
@@ -55,7 +64,10 @@ struct GltfSpecular {
              {{"ior", 1.5}, {"specular", 1.0}, {"specularColor", 1.0}},
              /*exact=*/true,
              "ior 1.5, specular 1 and specularColor 1 are the core material"},
-            {"lambert", {{"baseColor", "albedo"}}, {{"metallic", 0.0}, {"specular", 0.0}}, /*exact=*/true,
+            {"lambert",
+             {{"baseColor", "albedo"}},
+             {{"metallic", 0.0}, {"specular", 0.0}},
+             /*exact=*/true,
              "specular 0 and metallic 0 leave baseColor/π alone"}};
   }
 };

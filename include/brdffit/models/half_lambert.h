@@ -23,7 +23,8 @@ struct HalfLambert {
 
   static std::vector<ParamSpec> parameters() {
     return {albedo_param(),
-            {"wrap", 1, 0.5, 1.0, 0.5, "how the shading wraps past the terminator: 0.5 half-Lambert, 1 (n·l)²", Role::Wrap}};
+            {"wrap", 1, 0.5, 1.0, 0.5, "how the shading wraps past the terminator: 0.5 half-Lambert, 1 (n·l)²",
+             Role::Wrap}};
   }
 
   template <class T>

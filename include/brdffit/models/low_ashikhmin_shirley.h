@@ -23,7 +23,8 @@ namespace brdffit::models {
 struct LowAshikhminShirley {
   static constexpr const char* kName = "low-ashikhmin-shirley";
   static constexpr const char* kSummary =
-      "albedo/π + specular·(n+1)/(8π)·(n·h)^n·F_ck(η,l·h)/(l·h·max(n·l,n·v)): Ashikhmin-Shirley, Cook's Fresnel (Löw 2012)";
+      "albedo/π + specular·(n+1)/(8π)·(n·h)^n·F_ck(η,l·h)/(l·h·max(n·l,n·v)): Ashikhmin-Shirley, Cook's Fresnel (Löw "
+      "2012)";
   static constexpr bool kEnergyConserving = false;
   enum : int { kAlbedo = 0, kSpecular = 3, kN = 6, kEta = 7, kNumValues = 8 };
 
@@ -35,9 +36,7 @@ struct LowAshikhminShirley {
             {"eta", 1, 1.0, 12.0, 1.5, "index of refraction of Cook's Fresnel (Löw's fresnelReflectance)", Role::F0}};
   }
 
-  static std::vector<Nesting> nestings() {
-    return {lambert_under_lobe("specular")};
-  }
+  static std::vector<Nesting> nestings() { return {lambert_under_lobe("specular")}; }
 
   template <class T>
   static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {

@@ -36,9 +36,7 @@ struct LowCookTorrance {
             {"eta", 1, 1.0, 12.0, 1.5, "index of refraction of Cook's Fresnel (Löw's eta)", Role::F0}};
   }
 
-  static std::vector<Nesting> nestings() {
-    return {lambert_under_lobe("specular")};
-  }
+  static std::vector<Nesting> nestings() { return {lambert_under_lobe("specular")}; }
 
   template <class T>
   static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
@@ -49,8 +47,7 @@ struct LowCookTorrance {
     const double nh = h.z(), lh = l.dot(h);
     if (lh <= 0.0) return f;
     // π·beckmann_ndf is D without its 1/π; it cancels the π of the denominator.
-    const T lobe =
-        beckmann_ndf(nh, p[kM]) * vgroove_masking(nh, nl, nv, lh) * cook_fresnel(p[kEta], lh) / (nl * nv);
+    const T lobe = beckmann_ndf(nh, p[kM]) * vgroove_masking(nh, nl, nv, lh) * cook_fresnel(p[kEta], lh) / (nl * nv);
     return f + colour(p + kSpecular) * lobe;
   }
 };

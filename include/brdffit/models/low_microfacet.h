@@ -40,9 +40,7 @@ struct LowMicrofacet {
             {"eta", 1, 1.0, 12.0, 1.5, "index of refraction of Cook's Fresnel (Löw's eta)", Role::F0}};
   }
 
-  static std::vector<Nesting> nestings() {
-    return {lambert_under_lobe("A")};
-  }
+  static std::vector<Nesting> nestings() { return {lambert_under_lobe("A")}; }
 
   template <class T>
   static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {

@@ -18,8 +18,9 @@ struct Minnaert {
   enum : int { kAlbedo = 0, kRoughness = 3, kNumValues = 4 };
 
   static std::vector<ParamSpec> parameters() {
-    return {albedo_param(),
-            {"roughness", 1, 0.0, 2.0, 0.5, "Minnaert exponent k: 0 is Lambert, larger darkens the limb", Role::Roughness}};
+    return {
+        albedo_param(),
+        {"roughness", 1, 0.0, 2.0, 0.5, "Minnaert exponent k: 0 is Lambert, larger darkens the limb", Role::Roughness}};
   }
 
   static std::vector<Nesting> nestings() { return {lambert_in_shader({{"roughness", 0.0}}, "roughness = 0")}; }

@@ -32,8 +32,8 @@
 // only rescales F0, as specular_ior does) and specular_roughness_anisotropy = 0: a MERL table's
 // samples all have their half vector in one azimuth (φh = 0), where a stretch along the
 // tangent only trades against specular_roughness, so a fit would report an arbitrary anisotropy
-// that renders as brushed metal; the formula is kept (kAnisotropy) for a fixed value. Out: coat, fuzz, sheen, thin film, transmission,
-// subsurface, emission, geometry_opacity.
+// that renders as brushed metal; the formula is kept (kAnisotropy) for a fixed value. Out: coat, fuzz, sheen, thin
+// film, transmission, subsurface, emission, geometry_opacity.
 //
 // Approximations:
 //  - E, the directional albedo of the dielectric lobe, is interpolated (trilinearly in the
@@ -134,9 +134,9 @@ T interpolate_dielectric_albedo(int mu_row, double mu_fraction, const T& roughne
   const DielectricAlbedoTable& table = DielectricAlbedoTable::get();
   T fr, fe;
   const int r = grid_cell(roughness, fr);
-  const int e = grid_cell(T((eta - DielectricAlbedoTable::kEtaMin) /
-                            (DielectricAlbedoTable::kEtaMax - DielectricAlbedoTable::kEtaMin)),
-                          fe);
+  const int e = grid_cell(
+      T((eta - DielectricAlbedoTable::kEtaMin) / (DielectricAlbedoTable::kEtaMax - DielectricAlbedoTable::kEtaMin)),
+      fe);
   T result(0.0);
   for (int dm = 0; dm < (mu_fraction > 0.0 ? 2 : 1); ++dm)
     for (int dr = 0; dr < 2; ++dr)
@@ -165,10 +165,15 @@ struct OpenPbr {
       "OpenPBR Surface, opaque base: EON diffuse under an exact-Fresnel GGX dielectric, F82-tint GGX metal";
   static constexpr bool kEnergyConserving = true;
   enum : int {
-    kBaseColor = 0, kMetalness = 3, kDiffuseRoughness = 4, kSpecularColor = 5, kSpecularRoughness = 8,
-    kSpecularIor = 9, kNumValues = 10
+    kBaseColor = 0,
+    kMetalness = 3,
+    kDiffuseRoughness = 4,
+    kSpecularColor = 5,
+    kSpecularRoughness = 8,
+    kSpecularIor = 9,
+    kNumValues = 10
   };
-  static constexpr double kAnisotropy = 0.0;  // specular_roughness_anisotropy, held (see above)
+  static constexpr double kAnisotropy = 0.0;   // specular_roughness_anisotropy, held (see above)
   static constexpr double kMuBar = 1.0 / 7.0;  // the F82-tint's edge cosine (about 82°)
 
   static std::vector<ParamSpec> parameters() {

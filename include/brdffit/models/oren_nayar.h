@@ -27,7 +27,8 @@ struct OrenNayar {
   static std::vector<ParamSpec> parameters() {
     ParamSpec albedo = albedo_param();
     albedo.linear = false;  // albedo also multiplies the B term
-    return {albedo, {"roughness", 1, 0.0, 1.5, 0.3, "σ, the standard deviation of facet slopes (radians)", Role::Roughness}};
+    return {albedo,
+            {"roughness", 1, 0.0, 1.5, 0.3, "σ, the standard deviation of facet slopes (radians)", Role::Roughness}};
   }
 
   static std::vector<Nesting> nestings() { return {lambert_in_shader({{"roughness", 0.0}}, "roughness = 0")}; }

@@ -33,9 +33,7 @@ struct Phong {
              Role::Exponent, false, false, Spacing::Log}};
   }
 
-  static std::vector<Nesting> nestings() {
-    return {lambert_in_shader({{"specular", 0.0}}, "specular = 0")};
-  }
+  static std::vector<Nesting> nestings() { return {lambert_in_shader({{"specular", 0.0}}, "specular = 0")}; }
 
   template <class T>
   static Rgb<T> shade(const T* p, const Vec3& l, const Vec3& v) {

@@ -4,11 +4,11 @@
 //   f = ((1/π)·mix(F_d, ss, subsurface)·C + F_sheen)·(1 - metallic) + G_s·F_s·D_s + ¼·clearcoat·G_r·F_r·D_r
 //   F_L, F_V = (1 - n·l)^5, (1 - n·v)^5;  F_H = (1 - l·h)^5
 //   F_d = mix(1, F_d90, F_L)·mix(1, F_d90, F_V),  F_d90 = 0.5 + 2 (l·h)² roughness
-//   ss  = 1.25 (F_ss (1/(n·l + n·v) - 0.5) + 0.5),  F_ss = mix(1, F_ss90, F_L)·mix(1, F_ss90, F_V), F_ss90 = (l·h)² roughness
-//   C_tint = C / lum(C) (lum = 0.3 R + 0.6 G + 0.1 B; 1 when lum = 0)
-//   C_spec0 = mix(0.08·specular·mix(1, C_tint, specularTint), C, metallic);  F_s = mix(C_spec0, 1, F_H)
-//   D_s = GTR2 (GGX) with αx = max(0.001, roughness²/aspect), αy = max(0.001, roughness²·aspect), aspect = √(1 - 0.9 anisotropic)
-//   G_s = separable Smith GGX written as 1/(n·w + √((w·x αx)² + (w·y αy)² + (n·w)²)) per direction
+//   ss  = 1.25 (F_ss (1/(n·l + n·v) - 0.5) + 0.5),  F_ss = mix(1, F_ss90, F_L)·mix(1, F_ss90, F_V), F_ss90 = (l·h)²
+//   roughness C_tint = C / lum(C) (lum = 0.3 R + 0.6 G + 0.1 B; 1 when lum = 0) C_spec0 = mix(0.08·specular·mix(1,
+//   C_tint, specularTint), C, metallic);  F_s = mix(C_spec0, 1, F_H) D_s = GTR2 (GGX) with αx = max(0.001,
+//   roughness²/aspect), αy = max(0.001, roughness²·aspect), aspect = √(1 - 0.9 anisotropic) G_s = separable Smith GGX
+//   written as 1/(n·w + √((w·x αx)² + (w·y αy)² + (n·w)²)) per direction
 //         (the 1/(4 n·l n·v) is folded in)
 //   F_sheen = F_H·sheen·mix(1, C_tint, sheenTint)
 //   D_r = GTR1 with a = mix(0.1, 0.001, clearcoatGloss): (a²-1)/(π ln(a²)(1 + (a²-1)(n·h)²))
@@ -39,22 +39,31 @@ struct Principled {
       "Disney principled BRDF (Burley 2012, wdas/brdf disney.brdf): diffuse+subsurface, GGX, sheen, GTR1 clearcoat";
   static constexpr bool kEnergyConserving = false;  // Burley's diffuse exceeds albedo 1 at grazing for rough white
   enum : int {
-    kBaseColor = 0, kMetallic = 3, kSubsurface, kSpecular, kRoughness, kSpecularTint, kSheen, kClearcoat,
-    kClearcoatGloss, kNumValues
+    kBaseColor = 0,
+    kMetallic = 3,
+    kSubsurface,
+    kSpecular,
+    kRoughness,
+    kSpecularTint,
+    kSheen,
+    kClearcoat,
+    kClearcoatGloss,
+    kNumValues
   };
   static constexpr double kAnisotropic = 0.0, kSheenTint = 0.5;  // held (see above)
 
   static std::vector<ParamSpec> parameters() {
-    return {{"baseColor", 3, 0.0, 1.0, 0.5, "surface colour (linear RGB): diffuse colour, metal F0", Role::DiffuseColour},
-            {"metallic", 1, 0.0, 1.0, 0.0, "0 dielectric, 1 metal (linear blend)"},
-            {"subsurface", 1, 0.0, 1.0, 0.0, "blend of the diffuse towards Hanrahan-Krueger-like subsurface"},
-            {"specular", 1, 0.0, 1.0, 0.5, "dielectric specular amount; F0 = 0.08·specular (0.5 = 4%, ior 1.5)", Role::F0},
-            {"roughness", 1, 0.032, 1.0, 0.5, "perceptual roughness, GGX alpha = roughness² (also shapes the diffuse)",
-             Role::Roughness, false, false, Spacing::Log},
-            {"specularTint", 1, 0.0, 1.0, 0.0, "tints the dielectric F0 towards the base colour's hue"},
-            {"sheen", 1, 0.0, 1.0, 0.0, "grazing retro-reflective sheen (cloth)"},
-            {"clearcoat", 1, 0.0, 1.0, 0.0, "strength of the second, fixed-roughness GTR1 specular lobe"},
-            {"clearcoatGloss", 1, 0.0, 1.0, 1.0, "clearcoat glossiness: GTR1 a = mix(0.1, 0.001, clearcoatGloss)"}};
+    return {
+        {"baseColor", 3, 0.0, 1.0, 0.5, "surface colour (linear RGB): diffuse colour, metal F0", Role::DiffuseColour},
+        {"metallic", 1, 0.0, 1.0, 0.0, "0 dielectric, 1 metal (linear blend)"},
+        {"subsurface", 1, 0.0, 1.0, 0.0, "blend of the diffuse towards Hanrahan-Krueger-like subsurface"},
+        {"specular", 1, 0.0, 1.0, 0.5, "dielectric specular amount; F0 = 0.08·specular (0.5 = 4%, ior 1.5)", Role::F0},
+        {"roughness", 1, 0.032, 1.0, 0.5, "perceptual roughness, GGX alpha = roughness² (also shapes the diffuse)",
+         Role::Roughness, false, false, Spacing::Log},
+        {"specularTint", 1, 0.0, 1.0, 0.0, "tints the dielectric F0 towards the base colour's hue"},
+        {"sheen", 1, 0.0, 1.0, 0.0, "grazing retro-reflective sheen (cloth)"},
+        {"clearcoat", 1, 0.0, 1.0, 0.0, "strength of the second, fixed-roughness GTR1 specular lobe"},
+        {"clearcoatGloss", 1, 0.0, 1.0, 1.0, "clearcoat glossiness: GTR1 a = mix(0.1, 0.001, clearcoatGloss)"}};
   }
 
   template <class T>
@@ -121,8 +130,11 @@ struct Principled {
   }
 
   static std::vector<Nesting> nestings() {
-    return {{"lambert", {{"baseColor", "albedo"}}, {{"metallic", 0.0}, {"specular", 0.0}, {"roughness", 0.5}},
-             /*exact=*/false, "Lambert's albedo as baseColor, no dielectric F0 (Burley's diffuse and a grazing lobe remain)"}};
+    return {{"lambert",
+             {{"baseColor", "albedo"}},
+             {{"metallic", 0.0}, {"specular", 0.0}, {"roughness", 0.5}},
+             /*exact=*/false,
+             "Lambert's albedo as baseColor, no dielectric F0 (Burley's diffuse and a grazing lobe remain)"}};
   }
 };
 

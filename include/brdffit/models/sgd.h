@@ -62,21 +62,20 @@ struct Sgd {
     // Defaults (where fits start) are the medians of Bagher's 100 MERL fits (bagher_sgd.fit),
     // bounds cover their 10-90 % range and more (the published values of a few materials lie
     // outside: they still score, unclamped); K's default is BBM's.
-    return {albedo_param(),
-            specular_param(5.0, 0.12, "scale of the specular lobe per channel (Bagher's albedo)"),
-            {"alpha", 3, 1e-5, 1.0, 0.025, "SGD width α: smaller is a sharper highlight", Role::Roughness, false, false,
-             Spacing::Log},
-            {"p", 3, 0.0, 2.0, 0.45, "SGD shape p: larger gives the highlight a longer tail", Role::Shape},
-            {"f0", 3, 0.0, 2.0, 0.07, "Fresnel reflectance at normal incidence (Bagher's eta[0])", Role::F0},
-            {"f1", 3, -1.0, 2.0, 0.0, "linear correction of the Fresnel term, −f1·(l·h) (Bagher's eta[1])",
-             Role::Shape},
-            {"K", 3, 1.0, 1e5, 7.5, "normalisation of the distribution (Bagher's K; only specular·K matters)",
-             Role::Shape, false, false, Spacing::Log},
-            {"lambda", 3, 0.0, 10.0, 3.0, "strength Λ of the fitted shadowing at grazing angles", Role::Shape},
-            {"c", 3, 1e-8, 1e4, 6e-7, "rate c of the fitted shadowing", Role::Shape, false, false, Spacing::Log},
-            {"k", 3, 1.0, 500.0, 24.5, "exponent k of the fitted shadowing", Role::Shape},
-            {"theta0", 3, -0.7, 1.3, 0.23, "angle θ0 (radians) where the fitted shadowing starts",
-             Role::Shape}};
+    return {
+        albedo_param(),
+        specular_param(5.0, 0.12, "scale of the specular lobe per channel (Bagher's albedo)"),
+        {"alpha", 3, 1e-5, 1.0, 0.025, "SGD width α: smaller is a sharper highlight", Role::Roughness, false, false,
+         Spacing::Log},
+        {"p", 3, 0.0, 2.0, 0.45, "SGD shape p: larger gives the highlight a longer tail", Role::Shape},
+        {"f0", 3, 0.0, 2.0, 0.07, "Fresnel reflectance at normal incidence (Bagher's eta[0])", Role::F0},
+        {"f1", 3, -1.0, 2.0, 0.0, "linear correction of the Fresnel term, −f1·(l·h) (Bagher's eta[1])", Role::Shape},
+        {"K", 3, 1.0, 1e5, 7.5, "normalisation of the distribution (Bagher's K; only specular·K matters)", Role::Shape,
+         false, false, Spacing::Log},
+        {"lambda", 3, 0.0, 10.0, 3.0, "strength Λ of the fitted shadowing at grazing angles", Role::Shape},
+        {"c", 3, 1e-8, 1e4, 6e-7, "rate c of the fitted shadowing", Role::Shape, false, false, Spacing::Log},
+        {"k", 3, 1.0, 500.0, 24.5, "exponent k of the fitted shadowing", Role::Shape},
+        {"theta0", 3, -0.7, 1.3, 0.23, "angle θ0 (radians) where the fitted shadowing starts", Role::Shape}};
   }
 
   // Beckmann's D is the SGD with p = 0, α = m², K = e^(m²)/m²; with Λ = 0 (G = 1) and f1 = 0
@@ -86,16 +85,13 @@ struct Sgd {
   static double alpha_of_m(double m) { return m * m; }
   static double k_of_m(double m) { return std::exp(m * m) / (m * m); }
   static std::vector<Nesting> nestings() {
-    return {lambert_under_lobe("specular"),
-            {"cook-torrance",
-             {{"albedo", "albedo"},
-              {"specular", "specular"},
-              {"f0", "f0"},
-              {"alpha", "m", alpha_of_m},
-              {"K", "m", k_of_m}},
-             {{"p", 0.0}, {"f1", 0.0}, {"lambda", 0.0}},
-             false,
-             "Cook-Torrance's Beckmann D and Schlick F, without its V-groove shadowing"}};
+    return {
+        lambert_under_lobe("specular"),
+        {"cook-torrance",
+         {{"albedo", "albedo"}, {"specular", "specular"}, {"f0", "f0"}, {"alpha", "m", alpha_of_m}, {"K", "m", k_of_m}},
+         {{"p", 0.0}, {"f1", 0.0}, {"lambda", 0.0}},
+         false,
+         "Cook-Torrance's Beckmann D and Schlick F, without its V-groove shadowing"}};
   }
 
   // G1 of one channel for a direction at polar angle theta (clamped and capped: see above).

@@ -32,7 +32,8 @@ struct Toon {
   static std::vector<ParamSpec> parameters() {
     ParamSpec specular = specular_param(10.0, 0.5, "colour of the highlight (multiplied by albedo)");
     specular.linear = false;  // multiplied by albedo
-    return {albedo_param(), specular,
+    return {albedo_param(),
+            specular,
             {"glossiness", 1, 1.0, 100.0, 32.0, "highlight exponent is glossiness²: larger is a smaller highlight",
              Role::Exponent, false, false, Spacing::Log},
             {"rim_amount", 1, 0.0, 1.0, 0.716, "rim light appears where (1-v·n)·(n·l)^rim_threshold exceeds this",

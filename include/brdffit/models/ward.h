@@ -40,9 +40,10 @@ struct Ward {
   }
 
   static std::vector<Nesting> nestings() {
-    return {lambert_under_lobe(),
-            {"cook-torrance", {{"albedo", "albedo"}, {"alpha", "m"}}, {}, false, "cook-torrance, approximately: alpha = m"},
-            {"beckmann", {{"albedo", "albedo"}, {"alpha", "m"}}, {}, false, "beckmann, approximately: alpha = m"}};
+    return {
+        lambert_under_lobe(),
+        {"cook-torrance", {{"albedo", "albedo"}, {"alpha", "m"}}, {}, false, "cook-torrance, approximately: alpha = m"},
+        {"beckmann", {{"albedo", "albedo"}, {"alpha", "m"}}, {}, false, "beckmann, approximately: alpha = m"}};
   }
 
   template <class T>

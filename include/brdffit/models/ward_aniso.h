@@ -22,7 +22,8 @@ namespace brdffit::models {
 struct WardAniso {
   static constexpr const char* kName = "ward-aniso";
   static constexpr const char* kSummary =
-      "albedo/π + specular·exp(-tan²θh(cos²φh/α_x²+sin²φh/α_y²))/(4πα_xα_y√(n·l n·v)): anisotropic Ward, frame rotation phi0";
+      "albedo/π + specular·exp(-tan²θh(cos²φh/α_x²+sin²φh/α_y²))/(4πα_xα_y√(n·l n·v)): anisotropic Ward, frame "
+      "rotation phi0";
   static constexpr bool kEnergyConserving = false;
   enum : int { kAlbedo = 0, kSpecular = 3, kAlphaX = 6, kAlphaY = 7, kPhi0 = 8, kNumValues = 9 };
 

@@ -35,7 +35,7 @@ struct ResidualBatch {
   size_t count = 0;
   Metric metric = Metric::Cosine;
   std::array<bool, 3> channels{true, true, true};  // which measured channels are fitted
-  const ceres::LossFunction* loss = nullptr;        // per sample-channel, not owned; may be null
+  const ceres::LossFunction* loss = nullptr;       // per sample-channel, not owned; may be null
   // The parameter block holds only the free values: full[free_index[k]] = x[k]; the others
   // keep their value in *full_values (integer parameters, channels fitted separately).
   const std::vector<int>* free_index = nullptr;

@@ -42,8 +42,7 @@ class ModelAdapter final : public Model {
     }
   }
 
-  Rgb<double> shade_with_jacobian(const double* values, const Vec3& l, const Vec3& v,
-                                  double* jacobian) const override {
+  Rgb<double> shade_with_jacobian(const double* values, const Vec3& l, const Vec3& v, double* jacobian) const override {
     using Jet = ceres::Jet<double, M::kNumValues>;
     Jet p[M::kNumValues];
     for (int i = 0; i < M::kNumValues; ++i) p[i] = Jet(values[i], i);
@@ -53,9 +52,7 @@ class ModelAdapter final : public Model {
     return Rgb<double>(s[0].a, s[1].a, s[2].a);
   }
 
-  ceres::CostFunction* new_batch_cost(const ResidualBatch& batch) const override {
-    return new BatchCost<M>(batch);
-  }
+  ceres::CostFunction* new_batch_cost(const ResidualBatch& batch) const override { return new BatchCost<M>(batch); }
 
   const std::vector<Nesting>& nestings() const override { return nestings_; }
 
@@ -66,8 +63,10 @@ class ModelAdapter final : public Model {
   struct HasNestings<N, std::void_t<decltype(N::nestings())>> : std::true_type {};
   template <class N>
   static std::vector<Nesting> nestings_of() {
-    if constexpr (HasNestings<N>::value) return N::nestings();
-    else return {};
+    if constexpr (HasNestings<N>::value)
+      return N::nestings();
+    else
+      return {};
   }
 
   std::string name_, summary_;
