@@ -217,12 +217,9 @@ double fitted_error(const MaterialOutcome& outcome, const std::string& model, Me
 
 const char* material_status_name(MaterialStatus status) {
   switch (status) {
-    case MaterialStatus::Ok:
-      return "ok";
-    case MaterialStatus::Partial:
-      return "partial";
-    case MaterialStatus::Failed:
-      break;
+    case MaterialStatus::Ok: return "ok";
+    case MaterialStatus::Partial: return "partial";
+    case MaterialStatus::Failed: break;
   }
   return "failed";
 }

@@ -46,12 +46,9 @@ bool is_fitted(const ValueSlot& slot, const Channels& channels) {
 
 std::unique_ptr<ceres::LossFunction> make_loss(LossKind kind, double scale) {
   switch (kind) {
-    case LossKind::Huber:
-      return std::make_unique<ceres::HuberLoss>(scale);
-    case LossKind::Cauchy:
-      return std::make_unique<ceres::CauchyLoss>(scale);
-    case LossKind::None:
-      break;
+    case LossKind::Huber: return std::make_unique<ceres::HuberLoss>(scale);
+    case LossKind::Cauchy: return std::make_unique<ceres::CauchyLoss>(scale);
+    case LossKind::None: break;
   }
   return nullptr;
 }
@@ -778,12 +775,9 @@ void report_parameters(const Model& model, const std::vector<ChannelFit>& fits, 
 
 const char* verdict_name(Verdict verdict) {
   switch (verdict) {
-    case Verdict::Good:
-      return "good";
-    case Verdict::Poor:
-      return "poor";
-    case Verdict::Failed:
-      break;
+    case Verdict::Good: return "good";
+    case Verdict::Poor: return "poor";
+    case Verdict::Failed: break;
   }
   return "failed";
 }

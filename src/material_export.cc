@@ -256,12 +256,9 @@ MetallicRoughness metallic_roughness(const Rgb<double>& albedo, const Rgb<double
 
 const char* material_format_name(MaterialFormat format) {
   switch (format) {
-    case MaterialFormat::Gltf:
-      return "gltf";
-    case MaterialFormat::OpenPbr:
-      return "openpbr";
-    case MaterialFormat::Mitsuba:
-      return "mitsuba";
+    case MaterialFormat::Gltf: return "gltf";
+    case MaterialFormat::OpenPbr: return "openpbr";
+    case MaterialFormat::Mitsuba: return "mitsuba";
   }
   return "?";
 }
@@ -279,12 +276,9 @@ MaterialFormat material_format(const std::string& name, const std::string& path)
 
 std::vector<std::string> native_models(MaterialFormat format) {
   switch (format) {
-    case MaterialFormat::Gltf:
-      return {"gltf", "gltf-specular"};
-    case MaterialFormat::OpenPbr:
-      return {"openpbr"};
-    case MaterialFormat::Mitsuba:
-      return {"principled"};
+    case MaterialFormat::Gltf: return {"gltf", "gltf-specular"};
+    case MaterialFormat::OpenPbr: return {"openpbr"};
+    case MaterialFormat::Mitsuba: return {"principled"};
   }
   return {};
 }
@@ -358,15 +352,9 @@ MaterialExport export_material(const FitDocument& document, const ExportRequest&
       out.converted ? fmt::format("; this converted material's error on the same data {:.4g}", out.converted_error)
                     : "");
   switch (request.format) {
-    case MaterialFormat::Gltf:
-      out.text = gltf_document(out.material, provenance);
-      break;
-    case MaterialFormat::OpenPbr:
-      out.text = materialx_document(out.material, comment);
-      break;
-    case MaterialFormat::Mitsuba:
-      out.text = mitsuba_document(out.material, comment);
-      break;
+    case MaterialFormat::Gltf: out.text = gltf_document(out.material, provenance); break;
+    case MaterialFormat::OpenPbr: out.text = materialx_document(out.material, comment); break;
+    case MaterialFormat::Mitsuba: out.text = mitsuba_document(out.material, comment); break;
   }
   return out;
 }

@@ -39,12 +39,9 @@ Format detect_format(const std::string& path, const std::string& bytes) {
 
 std::unique_ptr<MeasuredBrdf> parse_table(const std::string& path, const std::string& bytes, Format format) {
   switch (format) {
-    case Format::Merl:
-      return std::make_unique<MerlTable>(MerlTable::parse(bytes, path));
-    case Format::Rgl:
-      return std::make_unique<RglBrdf>(RglBrdf::parse(bytes, path));
-    case Format::Csv:
-      break;
+    case Format::Merl: return std::make_unique<MerlTable>(MerlTable::parse(bytes, path));
+    case Format::Rgl: return std::make_unique<RglBrdf>(RglBrdf::parse(bytes, path));
+    case Format::Csv: break;
   }
   fail("{}: a CSV of samples is not a table that can be evaluated at any pair of directions", path);
 }

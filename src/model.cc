@@ -17,20 +17,13 @@ namespace brdffit {
 
 const char* role_name(Role role) {
   switch (role) {
-    case Role::DiffuseColour:
-      return "diffuse colour";
-    case Role::SpecularColour:
-      return "specular colour";
-    case Role::F0:
-      return "F0";
-    case Role::Roughness:
-      return "roughness";
-    case Role::Exponent:
-      return "exponent";
-    case Role::Wrap:
-      return "wrap";
-    case Role::Shape:
-      return "shape";
+    case Role::DiffuseColour: return "diffuse colour";
+    case Role::SpecularColour: return "specular colour";
+    case Role::F0: return "F0";
+    case Role::Roughness: return "roughness";
+    case Role::Exponent: return "exponent";
+    case Role::Wrap: return "wrap";
+    case Role::Shape: return "shape";
   }
   return "shape";
 }
@@ -126,14 +119,10 @@ std::string model_names() {
 
 const char* metric_name(Metric metric) {
   switch (metric) {
-    case Metric::Cosine:
-      return "cosine";
-    case Metric::Log:
-      return "log";
-    case Metric::Relative:
-      return "relative";
-    case Metric::L2:
-      return "l2";
+    case Metric::Cosine: return "cosine";
+    case Metric::Log: return "log";
+    case Metric::Relative: return "relative";
+    case Metric::L2: return "l2";
   }
   return "cosine";
 }
@@ -146,14 +135,10 @@ std::optional<Metric> parse_metric(const std::string& name) {
 
 double Metrics::get(Metric metric) const {
   switch (metric) {
-    case Metric::Cosine:
-      return cosine;
-    case Metric::Log:
-      return log;
-    case Metric::Relative:
-      return relative;
-    case Metric::L2:
-      return l2;
+    case Metric::Cosine: return cosine;
+    case Metric::Log: return log;
+    case Metric::Relative: return relative;
+    case Metric::L2: return l2;
   }
   return cosine;
 }

@@ -46,12 +46,9 @@ Verdict verdict_from(const std::string& name, const std::string& path) {
 
 const char* loss_name(LossKind loss) {
   switch (loss) {
-    case LossKind::Huber:
-      return "huber";
-    case LossKind::Cauchy:
-      return "cauchy";
-    case LossKind::None:
-      break;
+    case LossKind::Huber: return "huber";
+    case LossKind::Cauchy: return "cauchy";
+    case LossKind::None: break;
   }
   return "none";
 }

@@ -79,16 +79,11 @@ LocalFrame::LocalFrame(const Vec3& n) : tangent(n.unitOrthogonal()), bitangent(n
 
 const char* pixel_fate_name(PixelFate fate) {
   switch (fate) {
-    case PixelFate::Used:
-      return "used";
-    case PixelFate::Shadow:
-      return "shadow";
-    case PixelFate::Grazing:
-      return "grazing";
-    case PixelFate::Saturated:
-      return "saturated";
-    case PixelFate::Dark:
-      return "dark";
+    case PixelFate::Used: return "used";
+    case PixelFate::Shadow: return "shadow";
+    case PixelFate::Grazing: return "grazing";
+    case PixelFate::Saturated: return "saturated";
+    case PixelFate::Dark: return "dark";
   }
   return "?";
 }

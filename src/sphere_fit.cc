@@ -216,21 +216,11 @@ void add_diligent_folder(const std::string& folder, SphereInput& input) {
 
 void PixelCounts::add(PixelFate fate) {
   switch (fate) {
-    case PixelFate::Used:
-      ++used;
-      break;
-    case PixelFate::Shadow:
-      ++shadow;
-      break;
-    case PixelFate::Grazing:
-      ++grazing;
-      break;
-    case PixelFate::Saturated:
-      ++saturated;
-      break;
-    case PixelFate::Dark:
-      ++dark;
-      break;
+    case PixelFate::Used: ++used; break;
+    case PixelFate::Shadow: ++shadow; break;
+    case PixelFate::Grazing: ++grazing; break;
+    case PixelFate::Saturated: ++saturated; break;
+    case PixelFate::Dark: ++dark; break;
   }
 }
 

@@ -16,20 +16,16 @@ namespace {
 size_t type_size(TensorFile::Type type) {
   switch (type) {
     case TensorFile::Type::UInt8:
-    case TensorFile::Type::Int8:
-      return 1;
+    case TensorFile::Type::Int8: return 1;
     case TensorFile::Type::UInt16:
     case TensorFile::Type::Int16:
-    case TensorFile::Type::Float16:
-      return 2;
+    case TensorFile::Type::Float16: return 2;
     case TensorFile::Type::UInt32:
     case TensorFile::Type::Int32:
-    case TensorFile::Type::Float32:
-      return 4;
+    case TensorFile::Type::Float32: return 4;
     case TensorFile::Type::UInt64:
     case TensorFile::Type::Int64:
-    case TensorFile::Type::Float64:
-      return 8;
+    case TensorFile::Type::Float64: return 8;
   }
   return 0;
 }

@@ -103,4 +103,21 @@ inline std::string write_shard_inputs(const std::string& dir) {
   return in;
 }
 
+// The four materials of write_shard_inputs fitted into `out` as one process fitted them into
+// `single`: the same documents but for timings, and the same summary, all four ok.
+inline void expect_same_batch(const std::string& out, const std::string& single) {
+  for (const char* material : {"red", "blue", "green", "grey"}) {
+    SCOPED_TRACE(material);
+    EXPECT_EQ(without_seconds(nlohmann::json::parse(read_file(out + "/" + material + ".json"))),
+              without_seconds(nlohmann::json::parse(read_file(single + "/" + material + ".json"))));
+  }
+  const nlohmann::json one = nlohmann::json::parse(read_file(single + "/summary.json"));
+  const nlohmann::json all = nlohmann::json::parse(read_file(out + "/summary.json"));
+  ASSERT_EQ(all["materials"].size(), 4u);
+  for (size_t i = 0; i < 4; ++i)
+    for (const char* key : {"material", "input", "status", "best_model", "errors"})
+      EXPECT_EQ(all["materials"][i][key], one["materials"][i][key]) << key;
+  EXPECT_EQ(all["counts"]["ok"], 4);
+}
+
 }  // namespace brdffit::test

@@ -14,9 +14,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// mpirun, as root and with more ranks than cores if need be (this machine has two).
+// mpirun, as root and with more ranks than cores if need be (this machine has two). In a
+// sanitized build the ranks run without LeakSanitizer: OpenMPI's runtime (libopen-pal, hwloc and
+// its plugins) leaves its allocations to the exit, which LeakSanitizer reports as leaks in code
+// that is not ours. AddressSanitizer still checks every access.
 std::string mpirun(int ranks) {
-  return "mpirun --oversubscribe --allow-run-as-root -n " + std::to_string(ranks) + " " + BRDFFIT_CLI + " ";
+  return "ASAN_OPTIONS=detect_leaks=0 mpirun -x ASAN_OPTIONS --oversubscribe --allow-run-as-root -n " +
+         std::to_string(ranks) + " " + BRDFFIT_CLI + " ";
 }
 
 // Skips unless brdffit-mpi was built and mpirun runs; under CI (which installs OpenMPI) a build
@@ -39,18 +43,7 @@ TEST(BatchMpi, ThreeRanksWriteWhatOneProcessWrites) {
   ASSERT_EQ(ranks.exit_code, 0) << ranks.output;
   EXPECT_NE(ranks.output.find("over 2 MPI ranks"), std::string::npos) << ranks.output;
 
-  for (const char* material : {"red", "blue", "green", "grey"}) {
-    SCOPED_TRACE(material);
-    EXPECT_EQ(test::without_seconds(nlohmann::json::parse(read_file(dir + "/mpi/" + material + ".json"))),
-              test::without_seconds(nlohmann::json::parse(read_file(dir + "/single/" + material + ".json"))));
-  }
-  const nlohmann::json one = nlohmann::json::parse(read_file(dir + "/single/summary.json"));
-  const nlohmann::json all = nlohmann::json::parse(read_file(dir + "/mpi/summary.json"));
-  ASSERT_EQ(all["materials"].size(), 4u);
-  for (size_t i = 0; i < 4; ++i)
-    for (const char* key : {"material", "input", "status", "best_model", "errors"})
-      EXPECT_EQ(all["materials"][i][key], one["materials"][i][key]) << key;
-  EXPECT_EQ(all["counts"]["ok"], 4);
+  test::expect_same_batch(dir + "/mpi", dir + "/single");
   EXPECT_FALSE(fs::exists(dir + "/mpi/.brdffit-batch.lock"));  // released by rank 0
 }
 

@@ -60,51 +60,62 @@ std::vector<double> recovery_truth(const Model& model) {
   return values;
 }
 
-TEST(Fit, RecoversKnownParametersOfEveryModel) {
-  for (const auto& m : all_models()) {
-    SCOPED_TRACE(m->name());
-    const std::vector<double> truth = recovery_truth(*m);
-    const SampleSet data = synthetic(*m, truth, 6000, 0.01, 3);
-    FitOptions options;
-    const FitResult fit = fit_model(*m, data, options);
-    ASSERT_TRUE(fit.ok) << fit.error;
-    const std::set<std::string> trade_off = {"gltf-specular", "openpbr", "principled", "sgd"};
-    if (trade_off.count(m->name())) continue;  // FitTradeOff
-    // The optimiser's own test: the fit is at least as good as the truth on these data.
-    const double truth_error = evaluate_metrics(*m, truth, data).get(options.metric);
-    EXPECT_LE(fit.metrics.get(options.metric), truth_error * 1.001);
-    // Every parameter is determined by these data, except Lafortune's axis, which is only
-    // determined up to scale (LafortuneAxisIsDeterminedOnlyUpToScale).
-    int offset = 0;
-    for (const ParameterEstimate& p : fit.parameters) {
-      const bool determined = !(m->name() == "lafortune" && (p.name == "cxy" || p.name == "cz"));
-      EXPECT_EQ(p.identifiable, determined) << p.name;
-      if (!determined) {
-        for (double s : p.stddev) EXPECT_TRUE(std::isnan(s)) << p.name;
-        offset += static_cast<int>(p.value.size());
+// Models whose values a table determines one by one; the others are FitTradeOff's.
+std::vector<std::string> identifiable_models() {
+  const std::set<std::string> trade_off = {"gltf-specular", "openpbr", "principled", "sgd"};
+  std::vector<std::string> names;
+  for (const auto& m : all_models())
+    if (!trade_off.count(m->name())) names.push_back(m->name());
+  return names;
+}
+
+class FitRecovery : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(FitRecovery, RecoversKnownParameters) {
+  const Model* m = find_model(GetParam());
+  ASSERT_NE(m, nullptr);
+  const std::vector<double> truth = recovery_truth(*m);
+  const SampleSet data = synthetic(*m, truth, 6000, 0.01, 3);
+  FitOptions options;
+  const FitResult fit = fit_model(*m, data, options);
+  ASSERT_TRUE(fit.ok) << fit.error;
+  // The optimiser's own test: the fit is at least as good as the truth on these data.
+  const double truth_error = evaluate_metrics(*m, truth, data).get(options.metric);
+  EXPECT_LE(fit.metrics.get(options.metric), truth_error * 1.001);
+  // Every parameter is determined by these data, except Lafortune's axis, which is only
+  // determined up to scale (LafortuneAxisIsDeterminedOnlyUpToScale).
+  int offset = 0;
+  for (const ParameterEstimate& p : fit.parameters) {
+    const bool determined = !(m->name() == "lafortune" && (p.name == "cxy" || p.name == "cz"));
+    EXPECT_EQ(p.identifiable, determined) << p.name;
+    if (!determined) {
+      for (double s : p.stddev) EXPECT_TRUE(std::isnan(s)) << p.name;
+      offset += static_cast<int>(p.value.size());
+      continue;
+    }
+    for (size_t c = 0; c < p.value.size(); ++c) {
+      // The estimate within 2 % of the truth, or within 3 reported stddevs where the data
+      // determine it less well; the stddev itself at most 10 % of the value (largest seen:
+      // beckmann's albedo, 5.8 %) and calibrated in test_fit_calibration.cc, so an inflated
+      // one cannot excuse a wrong value.
+      const double expected = truth[offset + c], stddev = p.stddev[c];
+      if (m->parameters()[&p - fit.parameters.data()].integer) {  // searched, not estimated: exact
+        EXPECT_EQ(p.value[c], expected) << p.name;
         continue;
       }
-      for (size_t c = 0; c < p.value.size(); ++c) {
-        // The estimate within 2 % of the truth, or within 3 reported stddevs where the data
-        // determine it less well; the stddev itself at most 10 % of the value (largest seen:
-        // beckmann's albedo, 5.8 %) and calibrated in test_fit_calibration.cc, so an inflated
-        // one cannot excuse a wrong value.
-        const double expected = truth[offset + c], stddev = p.stddev[c];
-        if (m->parameters()[&p - fit.parameters.data()].integer) {  // searched, not estimated: exact
-          EXPECT_EQ(p.value[c], expected) << p.name;
-          continue;
-        }
-        ASSERT_TRUE(std::isfinite(stddev)) << p.name << "[" << c << "]";
-        EXPECT_LE(stddev, 0.1 * std::abs(expected) + 1e-9) << p.name << "[" << c << "]";
-        const double tolerance = std::max(0.02 * std::abs(expected), 3 * stddev);
-        EXPECT_NEAR(p.value[c], expected, std::max(tolerance, 1e-9)) << p.name << "[" << c << "]";
-      }
-      offset += static_cast<int>(p.value.size());
+      ASSERT_TRUE(std::isfinite(stddev)) << p.name << "[" << c << "]";
+      EXPECT_LE(stddev, 0.1 * std::abs(expected) + 1e-9) << p.name << "[" << c << "]";
+      const double tolerance = std::max(0.02 * std::abs(expected), 3 * stddev);
+      EXPECT_NEAR(p.value[c], expected, std::max(tolerance, 1e-9)) << p.name << "[" << c << "]";
     }
-    // Noise of 1% relative: the fitted model explains the data to about that level.
-    EXPECT_LT(fit.metrics.relative, 0.03);
+    offset += static_cast<int>(p.value.size());
   }
+  // Noise of 1% relative: the fitted model explains the data to about that level.
+  EXPECT_LT(fit.metrics.relative, 0.03);
 }
+
+INSTANTIATE_TEST_SUITE_P(EveryModel, FitRecovery, ::testing::ValuesIn(identifiable_models()),
+                         [](const auto& info) { return test::gtest_name(info.param); });
 
 }  // namespace
 }  // namespace brdffit
@@ -158,11 +169,7 @@ INSTANTIATE_TEST_SUITE_P(Fit, FitTradeOff,
                                            TradeOffCase{"openpbr", {}, 0.02, 1.001},
                                            TradeOffCase{"principled", {}, 0.035, 1.001},
                                            TradeOffCase{"sgd", {"specular", "K"}, 0.03, 5.0}),
-                         [](const auto& info) {
-                           std::string name = info.param.model;
-                           std::replace(name.begin(), name.end(), '-', '_');
-                           return name;
-                         });
+                         [](const auto& info) { return test::gtest_name(info.param.model); });
 
 TEST(Fit, MultiStartFindsTheGlobalMinimumWhereASingleStartDoesNot) {
   // Two GGX lobes, one sharp (roughness 0.05) and one broad (0.7), fitted by one lobe: the

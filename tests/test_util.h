@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -43,6 +44,13 @@ inline std::vector<double> random_values(const Model& model, std::mt19937_64& rn
 
 // Whether this is a CI run (CI=true): there ../shared is always present, so a test that needs it
 // fails instead of skipping (a missing mount must not pass as green).
+// A model or material name as a GoogleTest parameter name (letters, digits and '_' only).
+inline std::string gtest_name(std::string name) {
+  for (char& c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  return name;
+}
+
 inline bool running_in_ci() {
   const char* ci = std::getenv("CI");
   return ci && std::string(ci) == "true";

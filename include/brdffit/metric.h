@@ -49,11 +49,9 @@ T metric_residual(Metric metric, const T& predicted, double measured) {
   switch (metric) {
     case Metric::Log:
       return log(T(1.0) + (predicted > T(0.0) ? predicted : T(0.0))) - std::log1p(measured > 0.0 ? measured : 0.0);
-    case Metric::Relative:
-      return (predicted - measured) / (std::fabs(measured) + kRelativeEpsilon);
+    case Metric::Relative: return (predicted - measured) / (std::fabs(measured) + kRelativeEpsilon);
     case Metric::Cosine:
-    case Metric::L2:
-      break;
+    case Metric::L2: break;
   }
   return predicted - measured;
 }
