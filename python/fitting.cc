@@ -4,7 +4,10 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cstdint>
+#include <future>
 
 #include "bindings.h"
 #include "brdffit/error.h"
@@ -24,6 +27,38 @@ struct PyFitResults {
 
   nlohmann::json document() const { return fit_document_json(input_path, *data, options, results); }
 };
+
+// fit_models on a worker thread, without the GIL. Python runs its signal handlers only in the
+// main thread, between bytecodes, so this thread wakes every 50 ms to run them: Ctrl-C (a
+// handler that raises) stops the fit through FitOptions::cancel, within a solver iteration, and
+// the exception propagates.
+std::vector<FitResult> fit_interruptibly(const std::vector<const Model*>& models, const SampleSet& data,
+                                         FitOptions options) {
+  std::atomic<bool> cancel{false};
+  options.cancel = &cancel;
+  std::future<std::vector<FitResult>> fit =
+      std::async(std::launch::async, [&] { return fit_models(models, data, options); });
+  for (;;) {
+    bool done = false;
+    {
+      py::gil_scoped_release release;
+      done = fit.wait_for(std::chrono::milliseconds(50)) == std::future_status::ready;
+    }
+    if (done) return fit.get();
+    if (PyErr_CheckSignals() != 0) {
+      cancel = true;
+      {
+        py::gil_scoped_release release;
+        fit.wait();
+      }
+      try {
+        fit.get();
+      } catch (const Cancelled&) {
+      }
+      throw py::error_already_set();
+    }
+  }
+}
 
 py::object to_python(const nlohmann::json& json) { return py::module_::import("json").attr("loads")(json.dump()); }
 
@@ -91,13 +126,8 @@ PyFitResults fit(const py::handle& data, const py::handle& models, const std::st
   const std::vector<const Model*> list = models_from(models);
   if (out.data->empty()) fail("{}: no samples left to fit (check --max-angle)", out.input_path);
   // One call of the library's fit_models, which shares work between the models (the Lambert
-  // baseline, contained models' optima): the results are the CLI's. The fitter has no way to be
-  // stopped midway yet, so Ctrl-C (any pending signal) is acted on when it returns.
-  {
-    py::gil_scoped_release release;
-    out.results = fit_models(list, *out.data, out.options);
-  }
-  if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+  // baseline, contained models' optima): the results are the CLI's.
+  out.results = fit_interruptibly(list, *out.data, out.options);
   if (!on_result.is_none())
     for (const FitResult& result : out.results) on_result(result);
   return out;
@@ -262,9 +292,8 @@ Returns FitResults: one FitResult per model (a model that fails to fit is report
 status 'failed' and its error; the others are still fitted). Bad options or data raise
 brdffit.Error with the command line's message.
 
-The fit runs without the GIL (other Python threads go on). Ctrl-C is acted on when the
-library's fit returns (it cannot be stopped midway yet): the call then raises
-KeyboardInterrupt and the fits are dropped.)");
+The fit runs without the GIL (other Python threads go on). Ctrl-C stops it within a
+fraction of a second: the call raises KeyboardInterrupt and no result is kept.)");
 
   m.def("score", &score, py::arg("data"), py::arg("model"), py::arg("params") = py::none(),
         R"(score(data, model, params=None) -> dict

@@ -31,6 +31,23 @@ struct ValueSlot {
   int channel;
 };
 
+// FitOptions::cancel is looked at before and after every grid, coordinate-search pass and solve,
+// and by Ceres at each iteration (CancelAtIteration).
+void stop_if_cancelled(const FitOptions& options) {
+  if (options.cancel && options.cancel->load()) throw Cancelled();
+}
+
+class CancelAtIteration : public ceres::IterationCallback {
+ public:
+  explicit CancelAtIteration(const std::atomic<bool>* cancel) : cancel_(cancel) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary&) override {
+    return cancel_->load() ? ceres::SOLVER_ABORT : ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  const std::atomic<bool>* cancel_;
+};
+
 std::vector<ValueSlot> value_slots(const Model& model) {
   std::vector<ValueSlot> slots;
   for (const ParamSpec& p : model.parameters())
@@ -287,6 +304,7 @@ std::vector<Start> grid_starts(const Model& model, const std::vector<double>& in
     solve_linear(model, values, samples, metric, channels);
     starts[index] = {values, cost_of(model, values, samples, metric, channels, nullptr)};
   });
+  stop_if_cancelled(options);
   std::sort(starts.begin(), starts.end(), [](const Start& a, const Start& b) { return a.cost < b.cost; });
   return starts;
 }
@@ -317,6 +335,7 @@ Start coordinate_search(const Model& model, Start start, const std::vector<Sampl
   for (int pass = 0; pass < kMaxPasses; ++pass) {
     bool improved = false;
     for (const ParamSpec* p : shape) {
+      stop_if_cancelled(options);
       const std::vector<double> axis = grid_axis(*p, kValuesPerParameter);
       std::vector<Start> tries(axis.size());
       parallel_for(axis.size(), thread_count(options.threads), [&](size_t k) {
@@ -358,6 +377,7 @@ class LeastSquares {
 
   // Trust-region least squares from `start`; function_tolerance: relative cost change at which it stops.
   Refinement run(const std::vector<double>& start, int max_iterations, double function_tolerance = 1e-10) const {
+    stop_if_cancelled(options_);
     Refinement out;
     out.values = start;
     out.free_index = free_values();
@@ -387,8 +407,11 @@ class LeastSquares {
     // costs two more Jacobian evaluations per iteration; the projected trust-region step alone converges.
     solver.max_num_line_search_step_size_iterations = 0;
     solver.logging_type = ceres::SILENT;
+    CancelAtIteration cancel(options_.cancel);
+    if (options_.cancel) solver.callbacks.push_back(&cancel);
     ceres::Solver::Summary summary;
     ceres::Solve(solver, &problem, &summary);
+    stop_if_cancelled(options_);
 
     for (size_t k = 0; k < x.size(); ++k) out.values[out.free_index[k]] = x[k];
     out.cost = summary.final_cost;

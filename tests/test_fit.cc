@@ -2,9 +2,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <map>
 #include <set>
+#include <thread>
 
 #include "brdffit/error.h"
 #include "brdffit/fit.h"
@@ -342,6 +345,28 @@ TEST(Fit, AFailingModelDoesNotLoseTheOthers) {
   EXPECT_FALSE(results[0].error.empty());
   EXPECT_TRUE(results[1].ok) << results[1].error;
   EXPECT_NEAR(results[1].values[0], 0.4, 1e-9);
+}
+
+// FitOptions::cancel: set before the fit, nothing is fitted; set by another thread while
+// several seconds of fitting remain, the fit throws Cancelled instead of returning results.
+TEST(Fit, CancelStopsTheFitMidway) {
+  const Model& ggx = *find_model("ggx");
+  const SampleSet data =
+      synthetic(ggx, parameter_values(ggx, {"albedo=0.2", "roughness=0.2", "f0=0.5"}), 20000, 0.01, 4);
+  std::vector<const Model*> models;
+  for (const auto& m : all_models()) models.push_back(m.get());
+  std::atomic<bool> cancel{true};
+  FitOptions options;
+  options.cancel = &cancel;
+  EXPECT_THROW(fit_models(models, data, options), Cancelled);
+
+  cancel = false;
+  std::thread canceller([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    cancel = true;
+  });
+  EXPECT_THROW(fit_models(models, data, options), Cancelled);  // every model: ~10 s uncancelled
+  canceller.join();
 }
 
 }  // namespace

@@ -32,6 +32,12 @@ class Error : public std::runtime_error {
   explicit Error(const char* message) : Error(std::string(message)) {}
 };
 
+// A fit stopped on request (FitOptions::cancel) before it ended: it has no result.
+class Cancelled : public Error {
+ public:
+  Cancelled() : Error("the fit was cancelled") {}
+};
+
 template <class... Args>
 [[noreturn]] void fail(fmt::format_string<Args...> format, Args&&... args) {
   throw Error(fmt::format(format, std::forward<Args>(args)...));

@@ -8,6 +8,7 @@
 // are searched over their range; standard deviations from Ceres' covariance at the optimum.
 #pragma once
 
+#include <atomic>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,9 @@ struct FitOptions {
   uint64_t seed = 1;                   // for the subsample
   bool single_start = false;           // one refinement from the initial values on all samples
   std::vector<double> initial_values;  // flattened start; empty: the model's defaults
+  // Set to true by another thread to stop the fit: fit_models then throws Cancelled within one
+  // solver iteration or grid (a fraction of a second). Null: the fit runs to its end.
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 struct ParameterEstimate {
