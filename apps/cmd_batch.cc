@@ -22,6 +22,7 @@
 #include "brdffit/error.h"
 #include "brdffit/io.h"
 #include "brdffit/material_export.h"
+#include "cli_common.h"
 #include "commands.h"
 #include "fit_options.h"
 
@@ -31,12 +32,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
-
-std::string duration_text(double seconds) {
-  const long s = std::lround(seconds);
-  return s >= 3600 ? fmt::format("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60)
-                   : fmt::format("{}:{:02}", s / 60, s % 60);
-}
 
 // Progress of a batch on stderr: a line per finished material, and on a terminal a bar below
 // them with counts, elapsed time and ETA, redrawn every second.
@@ -237,6 +232,7 @@ void run_batch_command(const BatchArgs& args) {
 struct CompareArgs {
   std::vector<std::string> results;
   std::string metric, csv, markdown;
+  bool json = false;
 };
 
 void run_compare(const CompareArgs& args) {
@@ -245,7 +241,10 @@ void run_compare(const CompareArgs& args) {
   check_outputs(document_paths(documents), {args.csv, args.markdown});
   const Metric metric = args.metric.empty() ? common_metric(documents) : metric_from(args.metric);
   const Comparison comparison = compare_results(documents, metric);
-  fmt::print("{}", comparison_text(comparison));
+  if (args.json)
+    fmt::print("{}\n", comparison_json(comparison).dump(2));
+  else
+    fmt::print("{}", comparison_text(comparison));
   if (!args.csv.empty()) write_file_atomic(args.csv, comparison_csv(comparison));
   if (!args.markdown.empty()) write_file_atomic(args.markdown, comparison_markdown(comparison));
 }
@@ -258,7 +257,7 @@ struct ExportArgs {
 void run_export(const ExportArgs& args) {
   ExportRequest request;
   request.format = material_format(args.format, args.out);
-  request.model = args.model;
+  request.model = args.model.empty() ? args.model : one_model(args.model, "export");
   request.force = args.force;
   check_outputs({args.result}, {args.out});
   const MaterialExport exported = export_material(read_fit_document(args.result), request);
@@ -293,15 +292,13 @@ void add_batch_commands(CLI::App& app) {
   CLI::App* batch_cmd = app.add_subcommand("batch", "Fit every model to many tables; one result document per material");
   batch_cmd->add_option("input", batch->inputs, "Tables, folders of tables, or manifests (one path per line)")
       ->required();
-  batch_cmd->add_option("--models", batch->models, "Comma-separated models, or 'all'")->capture_default_str();
-  batch_cmd->add_option("--metric", batch->metric, "What to minimise: cosine, log, relative, l2")
-      ->capture_default_str();
-  batch_cmd->add_option("--loss", batch->loss, "Robust loss per sample: none, huber, cauchy")->capture_default_str();
+  add_models_option(batch_cmd, batch->models, "Comma-separated models, or 'all'");
+  batch_cmd->add_option("--metric", batch->metric, "What to minimise: cosine, log, relative, l2");
+  batch_cmd->add_option("--loss", batch->loss, "Robust loss per sample: none, huber, cauchy");
   batch_cmd->add_flag("--per-channel", batch->per_channel, "Fit shape parameters per colour channel");
   batch->converge.add_to(batch_cmd);
-  batch_cmd->add_option("--out", batch->out, "Folder for the result documents and summary.{json,csv}")
-      ->capture_default_str();
-  batch_cmd->add_option("--jobs", batch->jobs, "Materials fitted at once")->capture_default_str()->check(kJobsRange);
+  batch_cmd->add_option("-o,--out", batch->out, "Folder for the result documents and summary.{json,csv}");
+  batch_cmd->add_option("-j,--jobs", batch->jobs, "Materials fitted at once")->check(kJobsRange);
   batch_cmd->add_option("--threads", batch->threads, "Threads per material (0: the cores shared among the jobs)")
       ->check(kThreadsRange);
   batch_cmd->add_flag("--resume", batch->resume, "Skip materials whose result document is complete and current");
@@ -321,17 +318,18 @@ void add_batch_commands(CLI::App& app) {
   compare_cmd->add_option("--csv", compare->csv,
                           "Write the per-model table with every material's error and rank (CSV)");
   compare_cmd->add_option("--markdown", compare->markdown, "Write the tables as Markdown");
+  compare_cmd->add_flag("--json", compare->json, "Print the comparison as JSON instead of the tables");
   compare_cmd->callback([compare] { run_compare(*compare); });
 
   auto export_args = std::make_shared<ExportArgs>();
   CLI::App* export_cmd = app.add_subcommand(
       "export", "Write a fit as the renderer's material: glTF 2.0, OpenPBR (MaterialX) or Mitsuba 3 principled");
   export_cmd->add_option("result", export_args->result, "Result document (from fit or batch)")->required();
-  export_cmd->add_option("--model", export_args->model,
-                         "The fit to export (default: the format's own: gltf or gltf-specular, openpbr, principled; "
-                         "another fit is converted and its error reported)");
+  add_models_option(export_cmd, export_args->model,
+                    "The fit to export (default: the format's own: gltf or gltf-specular, openpbr, principled; "
+                    "another fit is converted and its error reported)");
   export_cmd->add_option("--format", export_args->format, "gltf, openpbr or mitsuba (default: from --out's extension)");
-  export_cmd->add_option("--out", export_args->out, "File to write (.gltf, .mtlx, .xml)")->required();
+  export_cmd->add_option("-o,--out", export_args->out, "File to write (.gltf, .mtlx, .xml)")->required();
   export_cmd->add_flag("--force", export_args->force, "Export a fit whose verdict is poor or failed (with a warning)");
   export_cmd->callback([export_args] { run_export(*export_args); });
 }

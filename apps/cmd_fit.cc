@@ -13,6 +13,7 @@
 #include "brdffit/measured.h"
 #include "brdffit/published_fits.h"
 #include "brdffit/result_json.h"
+#include "cli_common.h"
 #include "commands.h"
 #include "fit_options.h"
 
@@ -44,16 +45,48 @@ void print_ranking(const std::vector<FitResult>& results, Metric metric) {
   fmt::print("ranked by the {} metric\n", metric_name(metric));
 }
 
+// One row per model: status, verdict and metrics, then for every parameter of any model in the
+// run (first appearance order) one column per component (NAME, or NAME_r, NAME_g, NAME_b: a
+// parameter that is a colour in one model and a scalar in another has both), its stddevs
+// (NAME_stddev...) and two flags, NAME_at_bound and NAME_identifiable (1 or 0). A model without
+// that parameter leaves its cells empty; an unknown stddev is empty too.
 std::string csv_table(const std::vector<FitResult>& results) {
-  std::string csv = "model,status,verdict,cosine,log,relative,l2,max,iterations,seconds,parameters\n";
-  for (const FitResult& r : results) {
-    std::string params;
+  std::vector<std::pair<std::string, size_t>> columns;  // parameter name, components
+  for (const FitResult& r : results)
     for (const ParameterEstimate& p : r.parameters)
-      params += (params.empty() ? "" : ";") + p.name + "=" + format_values(p.value, "{:.9g}");
+      if (std::find(columns.begin(), columns.end(), std::pair(p.name, p.value.size())) == columns.end())
+        columns.emplace_back(p.name, p.value.size());
+  auto component_names = [](const std::string& name, size_t components) {
+    if (components == 1) return std::vector<std::string>{name};
+    return std::vector<std::string>{name + "_r", name + "_g", name + "_b"};
+  };
+  std::string csv = "model,status,verdict,cosine,log,relative,l2,max,iterations,seconds";
+  for (const auto& [name, components] : columns) {
+    for (const std::string& c : component_names(name, components)) csv += "," + csv_field(c);
+    for (const std::string& c : component_names(name + "_stddev", components)) csv += "," + csv_field(c);
+    csv += "," + csv_field(name + "_at_bound") + "," + csv_field(name + "_identifiable");
+  }
+  csv += "\n";
+  auto number = [](double x) { return std::isfinite(x) ? fmt::format("{:.9g}", x) : std::string(); };
+  for (const FitResult& r : results) {
     const Metrics& m = r.metrics;
-    csv += fmt::format("{},{},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{},{:.3f},{}\n", csv_field(r.model),
-                       r.ok ? "ok" : "failed", verdict_name(r.verdict), m.cosine, m.log, m.relative, m.l2, m.max,
-                       r.iterations, r.seconds, csv_field(params));
+    csv +=
+        fmt::format("{},{},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{},{:.3f}", csv_field(r.model), r.ok ? "ok" : "failed",
+                    verdict_name(r.verdict), m.cosine, m.log, m.relative, m.l2, m.max, r.iterations, r.seconds);
+    for (const auto& [name, components] : columns) {
+      const auto p = std::find_if(r.parameters.begin(), r.parameters.end(),
+                                  [&name = name, components = components](const auto& e) {
+                                    return e.name == name && e.value.size() == components;
+                                  });
+      if (p == r.parameters.end()) {
+        csv += std::string(2 * components + 2, ',');
+        continue;
+      }
+      for (double v : p->value) csv += "," + number(v);
+      for (double s : p->stddev) csv += "," + number(s);
+      csv += fmt::format(",{},{}", p->at_bound ? 1 : 0, p->identifiable ? 1 : 0);
+    }
+    csv += "\n";
   }
   return csv;
 }
@@ -68,19 +101,26 @@ struct FitArgs {
   bool per_channel = false;
   ConvergeArg converge;
   std::string out, csv;
+  bool json = false;
 };
 
 void run_fit(const FitArgs& args) {
   check_outputs({args.data}, {args.out, args.csv});  // before the work, not after it
-  const FitOptions options =
+  FitOptions options =
       fit_options(args.metric, args.loss, args.per_channel, args.threads, args.sampling.seed, args.converge);
   const std::vector<const Model*> models = parse_model_list(args.models);
   const SampleSet data = load_samples(args.data, args.sampling.options());
   if (data.empty()) fail("{}: no samples left to fit (check --max-angle)", args.data);
-  fmt::print("{}: {} samples ({} weights)\n", args.data, data.size(), data.weighting);
+  if (!args.json) fmt::print("{}: {} samples ({} weights)\n", args.data, data.size(), data.weighting);
 
+  ModelProgress progress;
+  progress.attach(options);
   const std::vector<FitResult> results = fit_models(models, data, options);
-  print_ranking(results, options.metric);
+  progress.clear();
+  if (args.json)
+    fmt::print("{}\n", fit_document_json(args.data, data, options, results).dump(2));
+  else
+    print_ranking(results, options.metric);
   // Outputs only once every model is done, each whole or not at all.
   if (!args.out.empty())
     write_file_atomic(args.out, fit_document_json(args.data, data, options, results).dump(2) + "\n");
@@ -131,12 +171,13 @@ void run_score(const ScoreArgs& args) {
   // --published F.fit names its line with --name (or --material, issue 12's spelling);
   // otherwise --material is an asset file (.gltf, .mtlx, Mitsuba .xml) and --name its material.
   if (!args.published.empty()) {
-    if (!args.model.empty()) fail("score: give --model or --published, not both");
+    if (!args.model.empty()) fail("score: give -m or --published, not both");
     if (!args.material.empty() && !args.name.empty()) fail("score: with --published, give the line's name once");
   } else if (args.model.empty() && args.material.empty()) {
-    fail("score: give --model (with --param) or --material FILE, or --published FILE.fit");
+    fail("score: give -m MODEL (with --param) or --material FILE, or --published FILE.fit");
   }
-  const Model* model = args.published.empty() ? find_model(args.model) : nullptr;
+  const Model* model =
+      args.published.empty() && !args.model.empty() ? find_model(one_model(args.model, "score")) : nullptr;
   std::vector<double> values;
   if (!args.published.empty()) {
     // scored below, model by model
@@ -167,13 +208,14 @@ void add_fit_commands(CLI::App& app) {
   auto fit = std::make_shared<FitArgs>();
   CLI::App* fit_cmd = app.add_subcommand("fit", "Fit models to a measured table (MERL, RGL, CSV) and rank them");
   fit_cmd->add_option("data", fit->data, "Measured table")->required();
-  fit_cmd->add_option("--models", fit->models, "Comma-separated models, or 'all'");
+  add_models_option(fit_cmd, fit->models, "Comma-separated models, or 'all'");
   fit_cmd->add_option("--metric", fit->metric, "What to minimise: cosine, log, relative, l2 (all are reported)");
   fit_cmd->add_option("--loss", fit->loss, "Robust loss per sample: none, huber, cauchy");
   fit_cmd->add_flag("--per-channel", fit->per_channel, "Fit shape parameters per colour channel");
   fit->converge.add_to(fit_cmd);
   fit_cmd->add_option("--threads", fit->threads, "Threads (0: every core)")->check(kThreadsRange);
-  fit_cmd->add_option("--out", fit->out, "Write the result document (JSON)");
+  fit_cmd->add_option("-o,--out", fit->out, "Write the result document (JSON)");
+  fit_cmd->add_flag("--json", fit->json, "Print the result document on stdout instead of the ranking");
   fit_cmd->add_option("--csv", fit->csv, "Write one row per model (CSV)");
   fit->sampling.add_to(fit_cmd);
   fit_cmd->callback([fit] { run_fit(*fit); });
@@ -181,8 +223,7 @@ void add_fit_commands(CLI::App& app) {
   auto score = std::make_shared<ScoreArgs>();
   CLI::App* score_cmd = app.add_subcommand("score", "Every error metric of given model parameters on a table");
   score_cmd->add_option("data", score->data, "Measured table")->required();
-  score_cmd->add_option("--model", score->model,
-                        "Model name (with --material: convert the material to it; or --published)");
+  add_models_option(score_cmd, score->model, "The model (with --material: convert the material to it)");
   score_cmd->add_option(
       "--published", score->published,
       "A BBM .fit file of published parameters: scores the material's line for every model it maps onto");

@@ -6,6 +6,7 @@
 
 #include "brdffit/error.h"
 #include "brdffit/model.h"
+#include "cli_common.h"
 #include "commands.h"
 
 namespace brdffit::cli {
@@ -47,7 +48,7 @@ void print_models(bool json) {
       "\nTwo specular lobes over one Lambert base: FIRST+SECOND (e.g. --models ggx+ggx, cook-torrance+cook-torrance,\n"
       "ggx+beckmann) with any two models above that are a lobe over albedo/π. The second lobe's parameters\n"
       "take the suffix _2 (roughness_2); a weight_2 scales it when its own scale cannot switch it off.\n"
-      "`brdffit eval ggx+ggx --param roughness_2=0.1 ...` works as for any model. 'all' is the list above.\n");
+      "`brdffit eval -m ggx+ggx --param roughness_2=0.1 ...` works as for any model. 'all' is the list above.\n");
 }
 
 struct EvalArgs {
@@ -58,7 +59,7 @@ struct EvalArgs {
 };
 
 void run_eval(const EvalArgs& args) {
-  const Model* model = find_model(args.model);
+  const Model* model = find_model(one_model(args.model, "eval"));
   if (!model) fail("unknown model '{}' (known: {})", args.model, model_names());
   const std::vector<double> values = parameter_values(*model, args.params);
   const Vec3 l = normalized_or_zero(parse_vec3(args.light, "--light"));
@@ -86,7 +87,8 @@ void add_models_commands(CLI::App& app) {
 
   auto args = std::make_shared<EvalArgs>();
   CLI::App* eval = app.add_subcommand("eval", "Evaluate a model's shaded value f·max(n·l,0) at one light/view pair");
-  eval->add_option("model", args->model, "Model name")->required();
+  add_models_option(eval, args->model, "The model");
+  add_positional_model(eval, args->model);
   eval->add_option("--param", args->params, "NAME=VALUE (colours: one value or R,G,B); repeatable");
   eval->add_option("--light", args->light, "Light direction X,Y,Z (normal is +z)")->required();
   eval->add_option("--view", args->view, "View direction X,Y,Z")->required();

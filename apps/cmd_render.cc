@@ -11,6 +11,7 @@
 #include "brdffit/render.h"
 #include "brdffit/report.h"
 #include "brdffit/result_json.h"
+#include "cli_common.h"
 #include "commands.h"
 #include "fit_options.h"
 
@@ -53,7 +54,8 @@ void run_render(const RenderArgs& args) {
     const FitDocument document = read_fit_document(args.input);
     std::string names;
     for (const FitResult& r : document.results) names += (names.empty() ? "" : ", ") + r.model;
-    if (args.model.empty()) fail("{}: choose the model to render with --model ({})", args.input, names);
+    if (args.model.empty()) fail("{}: choose the model to render with -m ({})", args.input, names);
+    one_model(args.model, "render");
     const FitResult* fit = find_result(document.results, args.model);
     if (!fit) fail("{}: has no {} result (it has {})", args.input, args.model, names);
     if (!fit->ok) fail("{}: the {} fit failed ({}): nothing to render", args.input, args.model, fit->error);
@@ -62,7 +64,7 @@ void run_render(const RenderArgs& args) {
     sphere = render_fitted_sphere(*model, *fit, lighting, args.size);
     what = args.model + " fitted to " + document.input_path;
   } else {
-    if (!args.model.empty()) fail("--model applies to result documents (.json); {} is a table", args.input);
+    if (!args.model.empty()) fail("-m applies to result documents (.json); {} is a table", args.input);
     sphere = render_measured_sphere(*open_measured(args.input), lighting, args.size);
     what = args.input;
   }
@@ -107,31 +109,34 @@ void run_report(const ReportArgs& args) {
 void add_render_commands(CLI::App& app) {
   auto render = std::make_shared<RenderArgs>();
   CLI::App* render_cmd = app.add_subcommand("render", imaging_summary("render"));
-  render_cmd->add_option("input", render->input, "Measured table (MERL, RGL), or a result document with --model")
+  render_cmd->add_option("input", render->input, "Measured table (MERL, RGL), or a result document with -m")
       ->required();
-  render_cmd->add_option("--model", render->model, "The fitted model to render from a result document");
+  add_models_option(render_cmd, render->model, "The fitted model to render from a result document");
   render->lighting.add_to(render_cmd);
-  render_cmd->add_option("--size", render->size, "Picture size in pixels")
-      ->capture_default_str()
+  render_cmd
+      ->add_option("--size", render->size, "Picture size in pixels")
+
       ->check(CLI::Range(8, 8192));
   render_cmd
       ->add_option("--reference", render->reference,
                    "PNG: the f·cosθi shown at about 75% grey (default: the sphere's 99th percentile)")
       ->check(CLI::PositiveNumber);
-  render_cmd->add_option("--out", render->out, "Picture: .png (tone-mapped sRGB) or .exr (linear)")->required();
+  render_cmd->add_option("-o,--out", render->out, "Picture: .png (tone-mapped sRGB) or .exr (linear)")->required();
   render_cmd->callback([render] { run_render(*render); });
 
   auto report = std::make_shared<ReportArgs>();
   CLI::App* report_cmd = app.add_subcommand("report", imaging_summary("report"));
   report_cmd->add_option("results", report->results, "Result documents, or folders of them (a batch's --out)")
       ->required();
-  report_cmd->add_option("--out", report->out, "The page to write (.html)")->required();
+  report_cmd->add_option("-o,--out", report->out, "The page to write (.html)")->required();
   report_cmd->add_option("--metric", report->metric, "Rank by: cosine, log, relative, l2 (default: the documents')");
-  report_cmd->add_option("--top", report->top, "Picture only the best N models of each material (0: all)")
-      ->capture_default_str()
+  report_cmd
+      ->add_option("--top", report->top, "Picture only the best N models of each material (0: all)")
+
       ->check(kCountRange);
-  report_cmd->add_option("--size", report->size, "Sphere size in pixels")
-      ->capture_default_str()
+  report_cmd
+      ->add_option("--size", report->size, "Sphere size in pixels")
+
       ->check(CLI::Range(16, 1024));
   report->lighting.add_to(report_cmd);
   report_cmd->callback([report] { run_report(*report); });

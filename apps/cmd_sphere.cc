@@ -12,6 +12,7 @@
 #include "brdffit/image_io.h"
 #include "brdffit/io.h"
 #include "brdffit/sphere_fit.h"
+#include "cli_common.h"
 #include "commands.h"
 #include "fit_options.h"
 
@@ -47,6 +48,7 @@ struct SphereArgs {
   PixelRules rules;
   ConvergeArg converge;
   std::string out, images_out, images_format = "png";
+  bool json = false;
   uint64_t max_pixels = kDefaultMaxImagePixels;
 };
 
@@ -132,7 +134,7 @@ void print_results(const std::vector<FitResult>& fits, const std::vector<PhotoEr
 
 void run_sphere(const SphereArgs& args) {
   set_max_image_pixels(args.max_pixels);
-  const FitOptions options = fit_options(args.metric, args.loss, false, args.threads, args.seed, args.converge);
+  FitOptions options = fit_options(args.metric, args.loss, false, args.threads, args.seed, args.converge);
   if (args.images_format != "png" && args.images_format != "exr")
     fail("--images-format: png or exr, not '{}'", args.images_format);
   const std::vector<const Model*> models = parse_model_list(args.models);
@@ -140,21 +142,29 @@ void run_sphere(const SphereArgs& args) {
   check_outputs(sphere_input_files(input), {args.out});  // before the work, not after it
 
   const SphereObservation observation = observe_sphere(input);
-  print_observation(observation);
+  if (!args.json) print_observation(observation);
   SampleSet fitted = observation.samples;
   apply_sampling_options(fitted, SamplingOptions{90.0, args.max_samples, args.seed});
-  fmt::print("fitting {} of {} samples ({} loss)\n", fitted.size(), observation.samples.size(),
-             args.loss == "none" ? "no robust" : args.loss);
+  if (!args.json)
+    fmt::print("fitting {} of {} samples ({} loss)\n", fitted.size(), observation.samples.size(),
+               args.loss == "none" ? "no robust" : args.loss);
 
+  ModelProgress progress;
+  progress.attach(options);
   const std::vector<FitResult> fits = fit_models(models, fitted, options);
+  progress.clear();
   const std::vector<PhotoError> errors =
       compare_with_photographs(observation, input, fits, PanelOutput{args.images_out, args.images_format});
-  print_results(fits, errors, options.metric);
-  if (!args.images_out.empty()) fmt::print("images: measured | fit | error in {}/<model>/\n", args.images_out);
-  if (!args.out.empty())
-    write_file_atomic(
-        args.out,
-        sphere_document_json(input_path(args), input, observation, fitted, options, fits, errors).dump(2) + "\n");
+  const auto document = [&] {
+    return sphere_document_json(input_path(args), input, observation, fitted, options, fits, errors).dump(2) + "\n";
+  };
+  if (args.json) {
+    fmt::print("{}", document());
+  } else {
+    print_results(fits, errors, options.metric);
+    if (!args.images_out.empty()) fmt::print("images: measured | fit | error in {}/<model>/\n", args.images_out);
+  }
+  if (!args.out.empty()) write_file_atomic(args.out, document());
   if (std::none_of(fits.begin(), fits.end(), [](const FitResult& f) { return f.ok; }))
     fail("{}: every model failed to fit", input_path(args));
 }
@@ -211,37 +221,39 @@ void add_sphere_commands(CLI::App& app) {
   CLI::Option* gamma = sphere->add_option(
       "--gamma", args->gamma, "Decode every image as value^GAMMA, or 'srgb' (default: 8-bit sRGB, deeper linear)");
   sphere->add_flag("--linear", args->linear, "Every image is linear, 8-bit ones too")->excludes(gamma);
-  sphere->add_option("--models", args->models, "Comma-separated models, or 'all'")->capture_default_str();
-  sphere->add_option("--metric", args->metric, "What to minimise: cosine, log, relative, l2")->capture_default_str();
-  sphere->add_option("--loss", args->loss, "Robust loss per sample: none, huber, cauchy")->capture_default_str();
+  add_models_option(sphere, args->models, "Comma-separated models, or 'all'");
+  sphere->add_option("--metric", args->metric, "What to minimise: cosine, log, relative, l2");
+  sphere->add_option("--loss", args->loss, "Robust loss per sample: none, huber, cauchy");
   sphere
       ->add_option("--max-samples", args->max_samples, "Fit a deterministic random subset of this many pixels (0: all)")
-      ->capture_default_str()
+
       ->check(kCountRange);
   sphere->add_option("--seed", args->seed, "Seed of the subset")->check(kSeedRange);
   sphere->add_option("--threads", args->threads, "Threads (0: every core)")->check(kThreadsRange);
   args->converge.add_to(sphere);
-  sphere->add_option("--max-angle", args->rules.max_angle_deg, "Leave out pixels with θi or θo above this (degrees)")
-      ->capture_default_str()
+  sphere
+      ->add_option("--max-angle", args->rules.max_angle_deg, "Leave out pixels with θi or θo above this (degrees)")
+
       ->check(CLI::Range(1.0, 90.0));
   sphere
       ->add_option("--saturation", args->rules.saturation,
                    "Leave out pixels with a channel at this fraction of full scale")
-      ->capture_default_str()
+
       ->check(CLI::Range(0.0, 1.0));
   sphere
       ->add_option("--dark", args->rules.dark,
                    "Leave out pixels whose brightest channel is below this fraction of full scale")
-      ->capture_default_str()
+
       ->check(CLI::Range(0.0, 1.0));
-  sphere->add_option("--max-pixels", args->max_pixels, "Refuse photographs with more pixels than this (bounds memory)")
-      ->capture_default_str()
+  sphere
+      ->add_option("--max-pixels", args->max_pixels, "Refuse photographs with more pixels than this (bounds memory)")
+
       ->check(kCountRange);
-  sphere->add_option("--out", args->out, "Write the result document (JSON)");
+  sphere->add_option("-o,--out", args->out, "Write the result document (JSON)");
+  sphere->add_flag("--json", args->json, "Print the result document on stdout instead of the tables");
   sphere->add_option("--images-out", args->images_out,
                      "Write measured | fit | error images per model and photograph here");
-  sphere->add_option("--images-format", args->images_format, "png (sRGB, for viewing) or exr (linear values)")
-      ->capture_default_str();
+  sphere->add_option("--images-format", args->images_format, "png (sRGB, for viewing) or exr (linear values)");
   sphere->callback([args] { run_sphere(*args); });
 
   auto capture_args = std::make_shared<CaptureArgs>();
@@ -254,10 +266,11 @@ void add_sphere_commands(CLI::App& app) {
       ->add_option("--exposures", capture_args->options.exposures,
                    "Exposure time of each group of frames, in order (T1,T2,...)")
       ->delimiter(',');
-  capture_cmd->add_option("--frames", capture_args->options.frames_per_exposure, "Frames averaged per exposure")
-      ->capture_default_str()
+  capture_cmd
+      ->add_option("--frames", capture_args->options.frames_per_exposure, "Frames averaged per exposure")
+
       ->check(kFramesRange);
-  capture_cmd->add_option("--out", capture_args->out, "Image to write (EXR keeps the linear values)")->required();
+  capture_cmd->add_option("-o,--out", capture_args->out, "Image to write (EXR keeps the linear values)")->required();
   capture_cmd->add_option("--response", capture_args->response,
                           "Write the recovered camera response (CSV: code,r,g,b)");
   capture_cmd->callback([capture_args] { run_capture(*capture_args); });

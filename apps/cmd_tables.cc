@@ -8,6 +8,7 @@
 #include "brdffit/merl.h"
 #include "brdffit/model.h"
 #include "brdffit/result_json.h"
+#include "cli_common.h"
 #include "commands.h"
 
 namespace brdffit::cli {
@@ -66,7 +67,7 @@ struct BakeArgs {
 };
 
 void run_bake(const BakeArgs& args) {
-  const Model* model = find_model(args.model);
+  const Model* model = find_model(one_model(args.model, "bake"));
   if (!model) fail("unknown model '{}' (known: {})", args.model, model_names());
   const std::vector<double> values = parameter_values(*model, args.params);
   write_merl(args.out, [&](const Vec3& l, const Vec3& v) -> Rgb<double> {
@@ -100,9 +101,10 @@ void add_table_commands(CLI::App& app) {
 
   auto bake_args = std::make_shared<BakeArgs>();
   CLI::App* bake = app.add_subcommand("bake", "Write a model as a MERL table");
-  bake->add_option("model", bake_args->model, "Model name")->required();
+  add_models_option(bake, bake_args->model, "The model to tabulate");
+  add_positional_model(bake, bake_args->model);
   bake->add_option("--param", bake_args->params, "NAME=VALUE (colours: one value or R,G,B); repeatable");
-  bake->add_option("--out", bake_args->out, "Output .binary file")->required();
+  bake->add_option("-o,--out", bake_args->out, "Output .binary file")->required();
   bake->callback([bake_args] { run_bake(*bake_args); });
 }
 

@@ -3,10 +3,13 @@
 // milliseconds and a few megabytes (README, "Two executables").
 #include <unistd.h>
 
+#include <fmt/format.h>
+
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -35,6 +38,25 @@ constexpr const char* kMpiExecutable = "brdffit-mpi";
 }
 [[noreturn]] void hand_over_to_imaging(int argc, char** argv) { hand_over(kImagingExecutable, argc, argv); }
 
+// `brdffit help [COMMAND]`: the command's --help (brdffit-imaging's for its commands).
+void add_help_command(CLI::App& app, char* program) {
+  auto topic = std::make_shared<std::string>();
+  CLI::App* help = app.add_subcommand("help", "Show the options of a command: brdffit help COMMAND");
+  help->add_option("command", *topic, "The command");
+  help->callback([&app, topic, program] {
+    if (topic->empty()) return fmt::print("{}", app.help());
+    for (const CommandSummary& command : kImagingCommands)
+      if (*topic == command.name) {
+        char help_flag[] = "--help";
+        char* args[] = {program, const_cast<char*>(command.name), help_flag};
+        hand_over_to_imaging(3, args);
+      }
+    for (const CLI::App* command : app.get_subcommands([](const CLI::App*) { return true; }))
+      if (command->get_name() == *topic) return fmt::print("{}", command->help("brdffit"));
+    fail("help: no command '{}' (brdffit --help lists them)", *topic);
+  });
+}
+
 // Whether mpirun started this process as one of several ranks (its environment says so; brdffit
 // itself links no MPI library).
 bool started_by_mpirun() {
@@ -54,6 +76,7 @@ void add_commands(CLI::App& app, int argc, char** argv) {
   add_table_commands(app);
   add_fit_commands(app);
   add_batch_commands(app);
+  add_help_command(app, argv[0]);
   // Listed in --help; never run here (argv[1] names them, handed over above).
   for (const CommandSummary& command : kImagingCommands) {
     CLI::App* listed = app.add_subcommand(command.name, command.summary);

@@ -49,7 +49,7 @@ for i in "${!bakes[@]}"; do
   out=$tables/baked-$(printf %02d "$i")-$model.binary
   args=()
   for p in $params; do args+=(--param "$p"); done
-  [[ -s $out ]] || "$brdffit" bake "$model" "${args[@]}" --out "$out" > /dev/null
+  [[ -s $out ]] || "$brdffit" bake -m "$model" "${args[@]}" -o "$out" > /dev/null
   count=$((count + 1))
 done
 echo "batch20: $(find "$tables" -name '*.binary' | wc -l) tables in $tables"

@@ -3,7 +3,7 @@
 # RGL tables, the cosine and log error and the seconds of the gltf, gltf-specular, openpbr and
 # principled fits beside ggx (each fitted minimising the cosine metric, all samples); then the
 # published glTF fits of hephil/gltfit (results/materials.json, a glTF "materials" array; pass its
-# path) scored on the MERL proxies with `brdffit score --model gltf`, beside our gltf fit.
+# path) scored on the MERL proxies with `brdffit score -m gltf`, beside our gltf fit.
 #
 #   bench/renderer_materials.sh [BUILD_DIR] [WORK_DIR] [GLTFIT_MATERIALS_JSON]
 #   (defaults: build, /tmp/brdffit-renderer, no published comparison)
@@ -47,7 +47,7 @@ echo "| --- | ---: | ---: | ---: | ---: |"
 for table in "${tables[@]}"; do
   [[ $table == *.binary ]] || continue
   name=$(basename "$table" .binary)
-  theirs=$("$brdffit" score "$table" --material "$work/gltfit.gltf" --name "$name" --model gltf --json 2> /dev/null)
+  theirs=$("$brdffit" score "$table" --material "$work/gltfit.gltf" --name "$name" -m gltf --json 2> /dev/null)
   python3 - "$theirs" "$work/fits/$name.csv" "$name" <<'PY'
 import csv, json, sys
 theirs = json.loads(sys.argv[1])["metrics"]

@@ -160,6 +160,33 @@ std::string comparison_csv(const Comparison& c) {
   return csv;
 }
 
+nlohmann::json comparison_json(const Comparison& c) {
+  nlohmann::json models = nlohmann::json::array(), materials = nlohmann::json::array();
+  for (const ModelSummary& m : c.models)
+    models.push_back({{"model", m.model},
+                      {"materials", m.materials},
+                      {"poor", m.poor},
+                      {"failed", m.failed},
+                      {"mean_error", number_or_null(m.mean_error)},
+                      {"median_error", number_or_null(m.median_error)},
+                      {"mean_rank", number_or_null(m.mean_rank)},
+                      {"wins", m.wins}});
+  for (const MaterialRanking& material : c.materials) {
+    nlohmann::json ranked = nlohmann::json::array();
+    for (const RankedModel& r : material.models)
+      ranked.push_back({{"model", r.model},
+                        {"ok", r.ok},
+                        {"error", number_or_null(r.error)},
+                        {"rank", r.rank},
+                        {"verdict", verdict_name(r.verdict)}});
+    materials.push_back({{"material", material.material},
+                         {"document", material.document},
+                         {"input", material.input},
+                         {"models", ranked}});
+  }
+  return {{"metric", metric_name(c.metric)}, {"models", models}, {"materials", materials}};
+}
+
 std::string comparison_markdown(const Comparison& c) {
   const std::string metric = metric_name(c.metric);
   std::string md = fmt::format("Models ranked by the {} metric over {} materials.\n\n", metric, c.materials.size());

@@ -1053,6 +1053,7 @@ std::vector<FitResult> fit_models(const std::vector<const Model*>& models, const
   const double zero_error = zero_prediction_error(data, options.metric);
   std::vector<FitResult> results;
   for (const Model* model : models) {
+    if (options.on_model_start) options.on_model_start(results.size(), models.size(), model->name());
     FitResult r = fit(*model);
     judge(*model, baseline, zero_error, options.metric, r);
     results.push_back(std::move(r));

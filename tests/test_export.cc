@@ -118,7 +118,7 @@ TEST(ExportCli, EachFormatWritesItsModelsFitUnchangedAndReadsBack) {
   EXPECT_FALSE(core.contains("extensionsUsed"));
   EXPECT_EQ(core["meshes"][0]["primitives"][0]["material"], 0);  // a sphere using the material
   EXPECT_NEAR(core["materials"][0]["extras"]["brdffit"]["metrics"]["cosine"].get<double>(), 0.0123, 1e-12);
-  expect_round_trip(doc, dir + "/gold-specular.gltf", "gltf-specular", kGltfSpecular, 0.0, " --model gltf-specular");
+  expect_round_trip(doc, dir + "/gold-specular.gltf", "gltf-specular", kGltfSpecular, 0.0, " -m gltf-specular");
   const nlohmann::json ext = nlohmann::json::parse(read_file(dir + "/gold-specular.gltf"));
   EXPECT_EQ(ext["extensionsUsed"], nlohmann::json({"KHR_materials_ior", "KHR_materials_specular"}));
   EXPECT_EQ(ext["materials"][0]["extensions"]["KHR_materials_ior"]["ior"], 1.7);
@@ -137,7 +137,7 @@ TEST(ExportCli, ConvertsAnotherFitAndReportsTheConvertedError) {
       test::write_model_csv(dir + "/plastic.csv", "gltf", {"baseColor=0.6,0.3,0.2", "metallic=0", "roughness=0.5"});
   const std::string doc = test::write_document(dir + "/plastic.json", data,
                                                {fit_of("ggx", {"albedo=0.55,0.28,0.18", "roughness=0.5", "f0=0.04"})});
-  const auto run = test::run_cli("export " + doc + " --model ggx --out " + dir + "/plastic.gltf");
+  const auto run = test::run_cli("export " + doc + " -m ggx --out " + dir + "/plastic.gltf");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const std::smatch m = [&] {
     std::smatch match;
@@ -157,7 +157,7 @@ TEST(ExportCli, ConvertsAnotherFitAndReportsTheConvertedError) {
   EXPECT_NEAR(converted.values[3], 0.0, 1e-12);  // a dielectric
   // Into OpenPBR and Mitsuba too.
   for (const char* out : {"/plastic.mtlx", "/plastic.xml"}) {
-    const auto again = test::run_cli("export " + doc + " --model ggx --out " + dir + out);
+    const auto again = test::run_cli("export " + doc + " -m ggx --out " + dir + out);
     EXPECT_EQ(again.exit_code, 0) << again.output;
     EXPECT_NE(again.output.find("converted from the ggx fit"), std::string::npos) << again.output;
   }
@@ -185,8 +185,8 @@ TEST(ExportCli, RefusesPoorOrFailedVerdictsWithoutForce) {
   test::expect_cli_errors(
       {{"export " + failed_doc + " --force --out " + dir + "/x.mtlx", "failed.json: the openpbr fit failed (diverged)"},
        {"export " + plain + " --out " + dir + "/x.mtlx", "plain.json: has no openpbr fit; fit with --models openpbr"},
-       {"export " + plain + " --model lambert --out " + dir + "/x.mtlx", "no conversion from the lambert model"},
-       {"export " + plain + " --model ward --out " + dir + "/x.mtlx", "plain.json: has no ward fit"},
+       {"export " + plain + " -m lambert --out " + dir + "/x.mtlx", "no conversion from the lambert model"},
+       {"export " + plain + " -m ward --out " + dir + "/x.mtlx", "plain.json: has no ward fit"},
        {"export " + plain + " --out " + dir + "/x.txt", "--format: gltf, openpbr or mitsuba"},
        {"export " + dir + "/nothing.json --out " + dir + "/x.mtlx", "nothing.json: cannot open"}},
       dir + "/x.mtlx");
@@ -263,7 +263,7 @@ TEST(ExportTools, KhronosValidatorFindsNothing) {
                             fit_of("gltf-specular", kGltfSpecular)});
   for (const std::string model : {"gltf", "gltf-specular"}) {
     const std::string out = dir + "/" + model + ".gltf";
-    const auto run = test::run_cli("export " + doc + " --model " + model + " --out " + out);
+    const auto run = test::run_cli("export " + doc + " -m " + model + " --out " + out);
     ASSERT_EQ(run.exit_code, 0) << run.output;
     const auto report = test::run_command("NODE_PATH=" + module_dir + " node " + BRDFFIT_SOURCE_DIR +
                                           "/tests/tools/validate_gltf.js " + out);
@@ -292,8 +292,7 @@ TEST(ScoreCli, ScoresAMaterialFromAnAsset) {
   ASSERT_EQ(rough.exit_code, 0) << rough.output;
   EXPECT_GT(nlohmann::json::parse(rough.output)["metrics"]["cosine"].get<double>(), 0.01) << rough.output;
   // Scored as another model: converted, with a warning.
-  const auto converted =
-      test::run_cli("score " + data + " --material " + dir + "/two.gltf --name exact --model openpbr");
+  const auto converted = test::run_cli("score " + data + " --material " + dir + "/two.gltf --name exact -m openpbr");
   ASSERT_EQ(converted.exit_code, 0) << converted.output;
   EXPECT_NE(converted.output.find("scored converted to openpbr"), std::string::npos) << converted.output;
   test::expect_cli_errors({{"score " + data + " --material " + dir + "/two.gltf",
@@ -301,7 +300,7 @@ TEST(ScoreCli, ScoresAMaterialFromAnAsset) {
                            {"score " + data + " --material " + dir + "/two.gltf --name none",
                             "two.gltf: has no material 'none' (it has: exact, other)"},
                            {"score " + data + " --material " + data, "m.csv: a material is read from .gltf, .mtlx"},
-                           {"score " + data, "give --model (with --param) or --material"}},
+                           {"score " + data, "give -m MODEL (with --param) or --material"}},
                           dir + "/nothing");
   write_file_atomic(dir + "/broken.mtlx", "<materialx><open_pbr_surface name=\"a\"></materialx>");
   test::expect_cli_errors({{"score " + data + " --material " + dir + "/broken.mtlx", "broken.mtlx: malformed XML"}},

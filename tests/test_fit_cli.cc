@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
@@ -61,13 +62,33 @@ TEST(FitCli, WritesTheResultDocumentAndCsv) {
     EXPECT_TRUE(ward["metrics"][metric].is_number());
   EXPECT_LT(ward["metrics"]["cosine"].get<double>(), 1e-6);
   EXPECT_GT(doc["models"][1]["metrics"]["cosine"].get<double>(), 1e-3);  // Lambert cannot fit Ward
-  const std::string csv = read_file(dir + "/r.csv");
-  EXPECT_EQ(csv.rfind("model,status,verdict,cosine,log,relative,l2,max,iterations,seconds,parameters\n", 0), 0u);
-  EXPECT_NE(csv.find("\nward,ok,good,"), std::string::npos);
+  // The CSV: a column per parameter component, its stddev and two flags; lambert leaves
+  // ward's own parameters empty.
+  const std::vector<std::vector<std::string>> rows = test::csv_rows(read_file(dir + "/r.csv"));
+  ASSERT_EQ(rows.size(), 3u);
+  const std::vector<std::string>& header = rows[0];
+  EXPECT_EQ(std::vector<std::string>(header.begin(), header.begin() + 13),
+            (std::vector<std::string>{"model", "status", "verdict", "cosine", "log", "relative", "l2", "max",
+                                      "iterations", "seconds", "albedo_r", "albedo_g", "albedo_b"}));
+  auto cell = [&](size_t row, const std::string& column) {
+    const auto at = std::find(header.begin(), header.end(), column);
+    EXPECT_NE(at, header.end()) << column;
+    return at == header.end() ? std::string() : rows[row].at(at - header.begin());
+  };
+  ASSERT_EQ(rows[1].size(), header.size());
+  EXPECT_EQ(cell(1, "model"), "ward");
+  EXPECT_NEAR(std::stod(cell(1, "alpha")), 0.15, 1e-6);
+  EXPECT_NEAR(std::stod(cell(1, "albedo_g")), 0.2, 1e-6);
+  EXPECT_GT(std::stod(cell(1, "alpha_stddev")), 0.0);
+  EXPECT_EQ(cell(1, "alpha_identifiable"), "1");
+  EXPECT_EQ(cell(1, "alpha_at_bound"), "0");
+  EXPECT_EQ(cell(2, "model"), "lambert");
+  EXPECT_EQ(cell(2, "alpha"), "");
+  EXPECT_NEAR(std::stod(cell(2, "albedo_r")), doc["models"][1]["parameters"]["albedo"]["value"][0].get<double>(), 1e-8);
 
   // score agrees with the fitted metrics.
   const auto score = test::run_cli("score " + data +
-                                   " --model ward --param albedo=0.3,0.2,0.1 --param specular=0.1 "
+                                   " -m ward --param albedo=0.3,0.2,0.1 --param specular=0.1 "
                                    "--param alpha=0.15 --json");
   ASSERT_EQ(score.exit_code, 0) << score.output;
   EXPECT_LT(nlohmann::json::parse(score.output)["metrics"]["cosine"].get<double>(), 1e-12);
@@ -83,7 +104,7 @@ TEST(FitCli, BadInputExitsNonZeroWithAClearMessageAndWritesNothing) {
       {"fit " + data + " --models ward,nosuch --out " + out, "unknown model 'nosuch'"},
       {"fit " + data + " --metric nosuch --out " + out, "unknown metric 'nosuch'"},
       {"fit " + data + " --loss nosuch --out " + out, "unknown loss 'nosuch'"},
-      {"score " + data + " --model ward --param alpha=7", "alpha must lie in"},
+      {"score " + data + " -m ward --param alpha=7", "alpha must lie in"},
   };
   for (const auto& [args, message] : cases) {
     SCOPED_TRACE(args);

@@ -164,7 +164,7 @@ INSTANTIATE_TEST_SUITE_P(Merl, MerlProxy, ::testing::Values("gold-metallic-paint
 TEST(Merl, BakeAndReadRoundTripExactly) {
   const std::string path = scratch_path("ggx.binary");
   const auto bake =
-      test::run_cli("bake ggx --param albedo=0.2,0.3,0.4 --param roughness=0.3 --param f0=0.5 --out " + path);
+      test::run_cli("bake -m ggx --param albedo=0.2,0.3,0.4 --param roughness=0.3 --param f0=0.5 --out " + path);
   ASSERT_EQ(bake.exit_code, 0) << bake.output;
   EXPECT_EQ(test::fs::file_size(path), 12u + 3u * kBins * 8);
   // Every bin holds the model's f at the bin centre divided by the channel scale: the centre's
@@ -233,7 +233,7 @@ TEST(Merl, RefusesToWriteValuesThatWouldReadAsMissing) {
 
 TEST(Merl, SamplesCarrySolidAngleWeightsAndRespectOptions) {
   const std::string path = scratch_path("lambert.binary");
-  ASSERT_EQ(test::run_cli("bake lambert --param albedo=0.5 --out " + path).exit_code, 0);
+  ASSERT_EQ(test::run_cli("bake -m lambert --param albedo=0.5 --out " + path).exit_code, 0);
   const MerlTable table = MerlTable::read(path);
   const SampleSet all = table.samples(SamplingOptions{});
   EXPECT_EQ(all.weighting, "solid-angle");

@@ -297,7 +297,7 @@ TEST(Cli, EvalMatchesTheLibrary) {
   for (const auto& m : all_models()) {
     SCOPED_TRACE(m->name());
     const std::vector<double> values = test::random_values(*m, rng);
-    std::string args = "eval " + m->name() + " --light 0.3,-0.2,1 --view -0.4,0.1,0.8 --json";
+    std::string args = "eval -m " + m->name() + " --light 0.3,-0.2,1 --view -0.4,0.1,0.8 --json";
     int offset = 0;
     for (const ParamSpec& p : m->parameters()) {
       args += " --param " + p.name + "=";
@@ -325,11 +325,11 @@ TEST(Cli, BadArgumentsExitNonZeroWithAMessage) {
   };
   for (const Case& c :
        {Case{"eval nosuchmodel --light 0,0,1 --view 0,0,1", 1, "brdffit: error: unknown model 'nosuchmodel'"},
-        Case{"eval ggx --param roughness=5 --light 0,0,1 --view 0,0,1", 1, "roughness must lie in [0.01, 1], got 5"},
-        Case{"eval ggx --param gloss=5 --light 0,0,1 --view 0,0,1", 1, "model ggx has no parameter 'gloss'"},
-        Case{"eval ggx --light 0,0 --view 0,0,1", 1, "--light: expected X,Y,Z, got '0,0'"},
-        Case{"eval ggx --light 0,0,0 --view 0,0,1", 1, "--light and --view must be non-zero directions"},
-        Case{"eval ggx --view 0,0,1", 106, "--light is required"},
+        Case{"eval -m ggx --param roughness=5 --light 0,0,1 --view 0,0,1", 1, "roughness must lie in [0.01, 1], got 5"},
+        Case{"eval -m ggx --param gloss=5 --light 0,0,1 --view 0,0,1", 1, "model ggx has no parameter 'gloss'"},
+        Case{"eval -m ggx --light 0,0 --view 0,0,1", 1, "--light: expected X,Y,Z, got '0,0'"},
+        Case{"eval -m ggx --light 0,0,0 --view 0,0,1", 1, "--light and --view must be non-zero directions"},
+        Case{"eval -m ggx --view 0,0,1", 106, "--light is required"},
         Case{"nosuchcommand", 106, "A subcommand is required"}}) {
     SCOPED_TRACE(c.args);
     const auto result = test::run_cli(c.args);

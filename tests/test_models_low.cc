@@ -367,8 +367,7 @@ TEST(LowModels, ScorePublishedOnTheCommandLine) {
 
   for (const auto& [args, fragment] : std::vector<std::pair<std::string, std::string>>{
            {"score " + table.path + " --published " + fits.path + " --material other", "no material 'other'"},
-           {"score " + table.path + " --published " + fits.path + " --model ward",
-            "give --model or --published, not both"},
+           {"score " + table.path + " --published " + fits.path + " -m ward", "give -m or --published, not both"},
            {"score " + table.path, "or --published FILE.fit"},
            {"score " + table.path + " --published " + fits.path + " --material a --name b",
             "give the line's name once"}}) {

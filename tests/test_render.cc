@@ -127,13 +127,12 @@ TEST(RenderCli, WritesToneMappedPngAndLinearExr) {
   const std::string doc = test::write_document(dir + "/r.json", dir + "/table.binary", {lambert_fit(0.2, 0.4, 0.6)});
   const double shade_g = 0.4 / kPi * (2.0 / std::sqrt(6.0));
 
-  const auto exr = test::run_cli("render " + doc + " --model lambert --size 65 --out " + dir + "/s.exr");
+  const auto exr = test::run_cli("render " + doc + " -m lambert --size 65 --out " + dir + "/s.exr");
   ASSERT_EQ(exr.exit_code, 0) << exr.output;
   EXPECT_NEAR(read_image(dir + "/s.exr").at<cv::Vec3f>(32, 32)[1], shade_g, 1e-6);
 
   // The PNG holds tone_map's display value, sRGB-encoded in 8 bits.
-  const auto png =
-      test::run_cli("render " + doc + " --model lambert --size 65 --reference 0.1 --out " + dir + "/s.png");
+  const auto png = test::run_cli("render " + doc + " -m lambert --size 65 --reference 0.1 --out " + dir + "/s.png");
   ASSERT_EQ(png.exit_code, 0) << png.output;
   const double v = shade_g / 0.1, expected = v * (1 + v / 16) / (1 + v);
   const ImageInfo info = read_image_info(dir + "/s.png");
@@ -153,8 +152,8 @@ TEST(RenderCli, WritesToneMappedPngAndLinearExr) {
   EXPECT_EQ(side.at<cv::Vec3f>(30, 16)[0], 0.0f);  // the bottom is in shadow
 
   test::expect_cli_errors(
-      {{"render " + doc + " --out " + dir + "/x.png", "choose the model to render with --model (lambert)"},
-       {"render " + doc + " --model ggx --out " + dir + "/x.png", "has no ggx result (it has lambert)"},
+      {{"render " + doc + " --out " + dir + "/x.png", "choose the model to render with -m (lambert)"},
+       {"render " + doc + " -m ggx --out " + dir + "/x.png", "has no ggx result (it has lambert)"},
        {"render " + dir + "/table.binary --light 0,0,0 --out " + dir + "/x.png", "non-zero directions"},
        {"render " + dir + "/nothing.binary --out " + dir + "/x.png", "nothing.binary"}},
       dir + "/x.png");

@@ -25,7 +25,7 @@ Rgb<double> rgb_of(const nlohmann::json& j) { return {j[0].get<double>(), j[1].g
 
 TEST(TableCli, InfoDescribesEveryFormat) {
   const std::string merl = scratch_path("info.binary");
-  ASSERT_EQ(run_cli("bake lambert --param albedo=0.5,0.25,0.125 --out " + merl).exit_code, 0);
+  ASSERT_EQ(run_cli("bake -m lambert --param albedo=0.5,0.25,0.125 --out " + merl).exit_code, 0);
   const nlohmann::json j = json_output(run_cli("info " + merl + " --json"));
   for (const char* key : {"format", "resolution", "valid", "invalid", "min", "max", "albedo"})
     EXPECT_TRUE(j.contains(key)) << key;
@@ -95,7 +95,7 @@ TEST(TableCli, LookupGivesTheMeasuredF) {
 
 TEST(TableCli, BakeWritesAModelAsAMerlTable) {
   const std::string path = scratch_path("bake.binary");
-  const auto r = run_cli("bake ward --param alpha=0.2 --out " + path);
+  const auto r = run_cli("bake -m ward --param alpha=0.2 --out " + path);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find(path), std::string::npos) << r.output;
   // The bins below the horizon, counted over every bin centre by hand (test::pair_from_angles),
@@ -126,7 +126,7 @@ TEST(TableCli, BakeWritesAModelAsAMerlTable) {
   }
   // Models without a BRDF are tabulated as shade/cosθi.
   const std::string toon = scratch_path("toon.binary");
-  ASSERT_EQ(run_cli("bake toon --out " + toon).exit_code, 0);
+  ASSERT_EQ(run_cli("bake -m toon --out " + toon).exit_code, 0);
   const Model& model = *find_model("toon");
   const std::vector<double> values = model.default_values();
   const MerlTable baked_toon = MerlTable::read(toon);
@@ -155,7 +155,7 @@ TEST(TableCli, ErrorsNameTheFileOrOptionAndTheProblem) {
       {"lookup " + rgl + " --light 0,0,0 --view 0,0,1", {"--light", "non-zero"}},
       {"lookup " + rgl + " --light 0,0 --view 0,0,1", {"--light"}},
       {"bake nosuchmodel --out " + missing, {"unknown model 'nosuchmodel'"}},
-      {"bake ggx --param roughness=7 --out " + missing, {"roughness"}},
+      {"bake -m ggx --param roughness=7 --out " + missing, {"roughness"}},
   };
   for (const auto& [arguments, fragments] : cases) {
     const auto r = run_cli(arguments);
@@ -171,13 +171,13 @@ TEST(TableCli, AFailedWriteLeavesTheExistingFileWhole) {
   // /proc/version exists, but nothing can be created beside it (even by root): the write fails
   // before the existing file is touched, with a message naming it.
   const std::string before = read_file("/proc/version");
-  const auto r = run_cli("bake lambert --out /proc/version");
+  const auto r = run_cli("bake -m lambert --out /proc/version");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("/proc/version: cannot write"), std::string::npos) << r.output;
   EXPECT_EQ(read_file("/proc/version"), before);
   // A model error is reported before anything is written.
   const std::string path = scratch_path("never.binary");
-  EXPECT_NE(run_cli("bake ggx --param roughness=5 --out " + path).exit_code, 0);
+  EXPECT_NE(run_cli("bake -m ggx --param roughness=5 --out " + path).exit_code, 0);
   EXPECT_FALSE(test::fs::exists(path));
 }
 

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <cstdio>
@@ -92,6 +93,28 @@ struct CommandResult {
   int exit_code;
   std::string output;  // stdout and stderr together
 };
+
+// The rows of a CSV text without quoted fields, each split at its commas.
+inline std::vector<std::vector<std::string>> csv_rows(const std::string& text) {
+  std::vector<std::vector<std::string>> rows;
+  size_t start = 0;
+  while (start < text.size()) {
+    const size_t end = std::min(text.find('\n', start), text.size());
+    std::vector<std::string> row;
+    for (size_t field = start;;) {
+      const size_t comma = text.find(',', field);
+      if (comma == std::string::npos || comma > end) {
+        row.push_back(text.substr(field, end - field));
+        break;
+      }
+      row.push_back(text.substr(field, comma - field));
+      field = comma + 1;
+    }
+    rows.push_back(std::move(row));
+    start = end + 1;
+  }
+  return rows;
+}
 
 // Runs a shell command and captures what it prints.
 inline CommandResult run_command(const std::string& command) {

@@ -62,5 +62,9 @@ std::string comparison_text(const Comparison& comparison);
 std::string comparison_csv(const Comparison& comparison);
 // The per-model summary and a materials x models table of errors with ranks, the best in bold.
 std::string comparison_markdown(const Comparison& comparison);
+// The whole comparison as JSON (`brdffit compare --json`): {"metric", "models": [summary...],
+// "materials": [{"material", "document", "input", "models": [{"model", "ok", "error", "rank",
+// "verdict"}...]}...]}; errors that are not numbers are null.
+nlohmann::json comparison_json(const Comparison& comparison);
 
 }  // namespace brdffit

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,9 @@ struct FitOptions {
   // Set to true by another thread to stop the fit: fit_models then throws Cancelled within one
   // solver iteration or grid (a fraction of a second). Null: the fit runs to its end.
   const std::atomic<bool>* cancel = nullptr;
+  // Called before each requested model's fit with its index, the number of models and its name
+  // (the command line's progress). Empty: nothing is called.
+  std::function<void(size_t index, size_t count, const std::string& model)> on_model_start;
 };
 
 struct ParameterEstimate {

@@ -95,7 +95,7 @@ def test_fit_of_the_bundled_table_equals_the_cli(cli, bundled_table, tmp_path):
 
 def test_score_equals_the_cli_and_the_fit_metrics(cli, bundled_table):
     table = brdffit.read(bundled_table)
-    expected = cli.json("score", bundled_table, "--model", "ggx", "--param", "roughness=0.3", "--param", "f0=0.2", "--json")
+    expected = cli.json("score", bundled_table, "-m", "ggx", "--param", "roughness=0.3", "--param", "f0=0.2", "--json")
     ours = brdffit.score(table, "ggx", {"roughness": 0.3, "f0": 0.2})
     assert {name: ours[name] for name in expected["metrics"]} == pytest.approx(expected["metrics"], rel=1e-12)
     light, view, shaded = ggx_samples(500)

@@ -41,7 +41,7 @@ def test_eval_matches_the_cli_at_each_pair_of_directions(cli):
     params = {"albedo": (0.1, 0.2, 0.3), "roughness": 0.3, "f0": 0.5}
     shaded, f = brdffit.eval("ggx", params, light * 2.0, view)  # directions need not be unit
     for i in range(4):
-        out = cli.json("eval", "ggx", "--param", "albedo=0.1,0.2,0.3", "--param", "roughness=0.3",
+        out = cli.json("eval", "-m", "ggx", "--param", "albedo=0.1,0.2,0.3", "--param", "roughness=0.3",
                        "--param", "f0=0.5", "--light", ",".join(map(repr, light[i])),
                        "--view", ",".join(map(repr, view[i])), "--json")
         np.testing.assert_allclose(shaded[i], out["shade"], rtol=1e-12)
@@ -86,7 +86,7 @@ def test_bad_parameters_raise_the_cli_messages(cli):
     for model, params, cli_args in cases:
         with pytest.raises(brdffit.Error) as raised:
             brdffit.eval(model, params, light, view)
-        assert str(raised.value) == cli.error("eval", model, *cli_args, "--light", "0,0,1", "--view", "0,0,1")
+        assert str(raised.value) == cli.error("eval", "-m", model, *cli_args, "--light", "0,0,1", "--view", "0,0,1")
 
 
 def test_bad_directions_and_value_counts_raise_errors():
