@@ -8,7 +8,7 @@ packages=(
   # Only the OpenCV modules brdffit uses (cmake/brdffitOpenCV.cmake finds them without OpenCV's
   # CMake package): libopencv-dev would add every other module with VTK, Qt, ...
   libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev libopencv-videoio-dev libopencv-photo-dev
-  libcli11-dev nlohmann-json3-dev libfmt-dev libgtest-dev libssl-dev
+  libcli11-dev nlohmann-json3-dev libfmt-dev libgtest-dev libssl-dev liblzma-dev zlib1g-dev
   openimageio-tools  # OpenImageIO's CMake package refers to its tools (iconvert, ...)
   libxml2-utils      # xmllint checks exported MaterialX and Mitsuba files in the tests
   libopenmpi-dev openmpi-bin  # brdffit-mpi: one batch over the ranks of an MPI job (mpirun)

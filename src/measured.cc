@@ -5,7 +5,10 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
+#include <sstream>
 
+#include "brdffit/compressed.h"
 #include "brdffit/csv_samples.h"
 #include "brdffit/error.h"
 #include "brdffit/io.h"
@@ -22,19 +25,21 @@ bool ends_with(const std::string& s, const std::string& suffix) {
 
 enum class Format { Merl, Rgl, Csv };
 
-// By content first (an RGL tensor file's magic, a MERL header's 90x90 θh/θd bins), then by
-// extension, so a misnamed table still opens and a malformed one gets its reader's message.
-Format detect_format(const std::string& path, const std::string& bytes) {
+// By content first (an RGL tensor file's magic, a MERL header's 90x90 θh/θd bins), then by the
+// name's extension, so a misnamed table still opens and a malformed one gets its reader's
+// message. `name` is the path without .xz/.gz; messages name the file itself.
+Format detect_format(const std::string& path, const std::string& name, const std::string& bytes) {
   if (bytes.compare(0, 12, "tensor_file\0", 12) == 0) return Format::Rgl;
-  if (ends_with(path, ".csv")) return Format::Csv;
+  if (ends_with(name, ".csv")) return Format::Csv;
   if (bytes.size() >= 12) {
     int32_t dims[3];
     std::memcpy(dims, bytes.data(), sizeof dims);
     if (dims[0] == 90 && dims[1] == 90) return Format::Merl;
   }
-  if (ends_with(path, ".binary")) return Format::Merl;
-  if (ends_with(path, ".bsdf")) return Format::Rgl;
-  fail("{}: unknown format (expected a MERL .binary, an RGL .bsdf or a .csv of samples)", path);
+  if (ends_with(name, ".binary")) return Format::Merl;
+  if (ends_with(name, ".bsdf")) return Format::Rgl;
+  fail("{}: unknown format (expected a MERL .binary, an RGL .bsdf or a .csv of samples, or one of them as .xz/.gz)",
+       path);
 }
 
 std::unique_ptr<MeasuredBrdf> parse_table(const std::string& path, const std::string& bytes, Format format) {
@@ -46,7 +51,7 @@ std::unique_ptr<MeasuredBrdf> parse_table(const std::string& path, const std::st
   fail("{}: a CSV of samples is not a table that can be evaluated at any pair of directions", path);
 }
 
-// The first bytes of a regular file, enough for detect_format.
+// The first bytes of a regular file, enough for detect_format and compression_of.
 std::string read_head(const std::string& path) {
   check_input_file(path);
   std::ifstream in(path, std::ios::binary);
@@ -57,17 +62,34 @@ std::string read_head(const std::string& path) {
   return head;
 }
 
-// A table file's bytes, for a format whose size is known read only up to that size: a MERL
-// table is at most 90x90x360 bins of 3 doubles, so a larger file is refused before it is read.
-std::string read_table_bytes(const std::string& path, const std::string& head) {
+// A measured input as its reader takes it: a table's bytes whole (decompressed from .xz/.gz), a
+// compressed CSV's text whole, an uncompressed CSV not at all (its text can be as large as its
+// samples and is streamed line by line instead).
+struct MeasuredInput {
+  Format format;
+  std::optional<std::string> bytes;
+};
+
+MeasuredInput read_input(const std::string& path) {
+  const std::string head = read_head(path);
+  if (const Compression compression = compression_of(head); compression != Compression::None) {
+    std::string bytes = decompress_file(path, compression, kMaxInputBytes);
+    const Format format = detect_format(path, without_compression_suffix(path), bytes);
+    return {format, std::move(bytes)};
+  }
+  const Format format = detect_format(path, path, head);
+  if (format == Format::Csv) return {format, std::nullopt};
+  // A MERL table is at most 90x90x360 bins of 3 doubles: a larger file is refused unread.
   constexpr uint64_t kLargestMerl = 12 + uint64_t{3} * 90 * 90 * 360 * sizeof(double);
-  const bool merl = detect_format(path, head) == Format::Merl;
-  return read_file(path, merl ? kLargestMerl : kMaxInputBytes);
+  std::string bytes = read_file(path, format == Format::Merl ? kLargestMerl : kMaxInputBytes);
+  return {detect_format(path, path, bytes), std::move(bytes)};
 }
 
-// A CSV's samples, read from the file line by line: its text can be as large as its samples
-// and is never needed whole.
-SampleSet stream_csv_samples(const std::string& path) {
+SampleSet csv_samples(const std::string& path, const MeasuredInput& input) {
+  if (input.bytes) {
+    std::istringstream text(*input.bytes);
+    return read_csv_samples(text, path);
+  }
   std::ifstream lines(path, std::ios::binary);
   if (!lines) fail("{}: cannot open: {}", path, std::strerror(errno));
   return read_csv_samples(lines, path);
@@ -90,32 +112,28 @@ Rgb<double> directional_albedo(const MeasuredBrdf& brdf, const Vec3& v) {
 }
 
 std::unique_ptr<MeasuredBrdf> open_measured(const std::string& path) {
-  const std::string bytes = read_table_bytes(path, read_head(path));
-  return parse_table(path, bytes, detect_format(path, bytes));
+  const MeasuredInput input = read_input(path);
+  return parse_table(path, input.bytes ? *input.bytes : std::string(), input.format);
 }
 
 SampleSet load_samples(const std::string& path, const SamplingOptions& options) {
   std::unique_ptr<MeasuredBrdf> table;
   {
-    const std::string head = read_head(path);
-    if (detect_format(path, head) == Format::Csv) {
-      SampleSet set = stream_csv_samples(path);
+    const MeasuredInput input = read_input(path);
+    if (input.format == Format::Csv) {
+      SampleSet set = csv_samples(path, input);
       apply_sampling_options(set, options);
       return set;
     }
-    const std::string bytes = read_table_bytes(path, head);
-    table = parse_table(path, bytes, detect_format(path, bytes));
+    table = parse_table(path, *input.bytes, input.format);
   }  // the file's bytes are gone before the samples are made (a MERL table's are 35 MB)
   return table->samples(options);
 }
 
 TableInfo describe_measured(const std::string& path) {
-  const std::string head = read_head(path);
-  if (detect_format(path, head) != Format::Csv) {
-    const std::string bytes = read_table_bytes(path, head);
-    return parse_table(path, bytes, detect_format(path, bytes))->info();
-  }
-  const SampleSet set = stream_csv_samples(path);
+  const MeasuredInput input = read_input(path);
+  if (input.format != Format::Csv) return parse_table(path, *input.bytes, input.format)->info();
+  const SampleSet set = csv_samples(path, input);
   TableInfo info;
   info.format = "csv";
   info.resolution = std::to_string(set.size()) + " samples";
@@ -126,14 +144,15 @@ TableInfo describe_measured(const std::string& path) {
 }
 
 bool has_table_extension(const std::string& path) {
-  std::string extension = std::filesystem::path(path).extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  std::string name = path;
+  for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  std::string extension = std::filesystem::path(without_compression_suffix(name)).extension().string();
   return extension == ".binary" || extension == ".bsdf" || extension == ".csv";
 }
 
 std::string table_material_name(const std::string& path) {
-  const std::filesystem::path file(path);
-  return has_table_extension(path) ? file.stem().string() : file.filename().string();
+  const std::filesystem::path file(without_compression_suffix(path));
+  return has_table_extension(path) ? file.stem().string() : std::filesystem::path(path).filename().string();
 }
 
 }  // namespace brdffit
