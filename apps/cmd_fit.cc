@@ -117,13 +117,15 @@ void run_fit(const FitArgs& args) {
   progress.attach(options);
   const std::vector<FitResult> results = fit_models(models, data, options);
   progress.clear();
+  const std::string document = args.json || !args.out.empty()
+                                   ? fit_document_json(args.data, data, options, results).dump(2) + "\n"
+                                   : std::string();
   if (args.json)
-    fmt::print("{}\n", fit_document_json(args.data, data, options, results).dump(2));
+    fmt::print("{}", document);
   else
     print_ranking(results, options.metric);
   // Outputs only once every model is done, each whole or not at all.
-  if (!args.out.empty())
-    write_file_atomic(args.out, fit_document_json(args.data, data, options, results).dump(2) + "\n");
+  if (!args.out.empty()) write_file_atomic(args.out, document);
   if (!args.csv.empty()) write_file_atomic(args.csv, csv_table(results));
   if (std::none_of(results.begin(), results.end(), [](const FitResult& r) { return r.ok; }))
     fail("{}: every model failed to fit", args.data);

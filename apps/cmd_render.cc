@@ -113,10 +113,7 @@ void add_render_commands(CLI::App& app) {
       ->required();
   add_models_option(render_cmd, render->model, "The fitted model to render from a result document");
   render->lighting.add_to(render_cmd);
-  render_cmd
-      ->add_option("--size", render->size, "Picture size in pixels")
-
-      ->check(CLI::Range(8, 8192));
+  render_cmd->add_option("--size", render->size, "Picture size in pixels")->check(CLI::Range(8, 8192));
   render_cmd
       ->add_option("--reference", render->reference,
                    "PNG: the f·cosθi shown at about 75% grey (default: the sphere's 99th percentile)")
@@ -130,14 +127,9 @@ void add_render_commands(CLI::App& app) {
       ->required();
   report_cmd->add_option("-o,--out", report->out, "The page to write (.html)")->required();
   report_cmd->add_option("--metric", report->metric, "Rank by: cosine, log, relative, l2 (default: the documents')");
-  report_cmd
-      ->add_option("--top", report->top, "Picture only the best N models of each material (0: all)")
-
+  report_cmd->add_option("--top", report->top, "Picture only the best N models of each material (0: all)")
       ->check(kCountRange);
-  report_cmd
-      ->add_option("--size", report->size, "Sphere size in pixels")
-
-      ->check(CLI::Range(16, 1024));
+  report_cmd->add_option("--size", report->size, "Sphere size in pixels")->check(CLI::Range(16, 1024));
   report->lighting.add_to(report_cmd);
   report_cmd->callback([report] { run_report(*report); });
 }

@@ -155,16 +155,17 @@ void run_sphere(const SphereArgs& args) {
   progress.clear();
   const std::vector<PhotoError> errors =
       compare_with_photographs(observation, input, fits, PanelOutput{args.images_out, args.images_format});
-  const auto document = [&] {
-    return sphere_document_json(input_path(args), input, observation, fitted, options, fits, errors).dump(2) + "\n";
-  };
+  const std::string document =
+      args.json || !args.out.empty()
+          ? sphere_document_json(input_path(args), input, observation, fitted, options, fits, errors).dump(2) + "\n"
+          : std::string();
   if (args.json) {
-    fmt::print("{}", document());
+    fmt::print("{}", document);
   } else {
     print_results(fits, errors, options.metric);
     if (!args.images_out.empty()) fmt::print("images: measured | fit | error in {}/<model>/\n", args.images_out);
   }
-  if (!args.out.empty()) write_file_atomic(args.out, document());
+  if (!args.out.empty()) write_file_atomic(args.out, document);
   if (std::none_of(fits.begin(), fits.end(), [](const FitResult& f) { return f.ok; }))
     fail("{}: every model failed to fit", input_path(args));
 }
@@ -226,28 +227,21 @@ void add_sphere_commands(CLI::App& app) {
   sphere->add_option("--loss", args->loss, "Robust loss per sample: none, huber, cauchy");
   sphere
       ->add_option("--max-samples", args->max_samples, "Fit a deterministic random subset of this many pixels (0: all)")
-
       ->check(kCountRange);
   sphere->add_option("--seed", args->seed, "Seed of the subset")->check(kSeedRange);
   sphere->add_option("--threads", args->threads, "Threads (0: every core)")->check(kThreadsRange);
   args->converge.add_to(sphere);
-  sphere
-      ->add_option("--max-angle", args->rules.max_angle_deg, "Leave out pixels with θi or θo above this (degrees)")
-
+  sphere->add_option("--max-angle", args->rules.max_angle_deg, "Leave out pixels with θi or θo above this (degrees)")
       ->check(CLI::Range(1.0, 90.0));
   sphere
       ->add_option("--saturation", args->rules.saturation,
                    "Leave out pixels with a channel at this fraction of full scale")
-
       ->check(CLI::Range(0.0, 1.0));
   sphere
       ->add_option("--dark", args->rules.dark,
                    "Leave out pixels whose brightest channel is below this fraction of full scale")
-
       ->check(CLI::Range(0.0, 1.0));
-  sphere
-      ->add_option("--max-pixels", args->max_pixels, "Refuse photographs with more pixels than this (bounds memory)")
-
+  sphere->add_option("--max-pixels", args->max_pixels, "Refuse photographs with more pixels than this (bounds memory)")
       ->check(kCountRange);
   sphere->add_option("-o,--out", args->out, "Write the result document (JSON)");
   sphere->add_flag("--json", args->json, "Print the result document on stdout instead of the tables");
@@ -266,9 +260,7 @@ void add_sphere_commands(CLI::App& app) {
       ->add_option("--exposures", capture_args->options.exposures,
                    "Exposure time of each group of frames, in order (T1,T2,...)")
       ->delimiter(',');
-  capture_cmd
-      ->add_option("--frames", capture_args->options.frames_per_exposure, "Frames averaged per exposure")
-
+  capture_cmd->add_option("--frames", capture_args->options.frames_per_exposure, "Frames averaged per exposure")
       ->check(kFramesRange);
   capture_cmd->add_option("-o,--out", capture_args->out, "Image to write (EXR keeps the linear values)")->required();
   capture_cmd->add_option("--response", capture_args->response,

@@ -5,6 +5,7 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <filesystem>
 
 #include "brdffit/error.h"
 #include "brdffit/io.h"
@@ -12,10 +13,6 @@
 namespace brdffit {
 
 namespace {
-
-bool ends_with(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
 
 constexpr size_t kChunk = size_t{1} << 20;
 
@@ -104,9 +101,8 @@ std::string decompress_file(const std::string& path, Compression compression, ui
 }
 
 std::string without_compression_suffix(const std::string& path) {
-  for (const char* suffix : {".xz", ".gz"})
-    if (ends_with(path, suffix)) return path.substr(0, path.size() - 3);
-  return path;
+  const std::string extension = std::filesystem::path(path).extension().string();
+  return extension == ".xz" || extension == ".gz" ? path.substr(0, path.size() - extension.size()) : path;
 }
 
 }  // namespace brdffit
