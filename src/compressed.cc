@@ -5,6 +5,7 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 
 #include "brdffit/error.h"
@@ -24,8 +25,23 @@ uint8_t* grow(std::string& out, size_t& used, uint64_t max_bytes, const std::str
   return reinterpret_cast<uint8_t*>(out.data()) + used;
 }
 
-std::string decompress_xz(const std::string& path, const std::string& in, uint64_t max_bytes) {
+// The decoders' states, ended however the decoding ends: grow() and fail() throw.
+struct XzDecoder {
   lzma_stream stream = LZMA_STREAM_INIT;
+  ~XzDecoder() { lzma_end(&stream); }
+};
+
+struct GzipDecoder {
+  z_stream stream{};
+  bool started = false;
+  ~GzipDecoder() {
+    if (started) inflateEnd(&stream);
+  }
+};
+
+std::string decompress_xz(const std::string& path, const std::string& in, uint64_t max_bytes) {
+  XzDecoder decoder;
+  lzma_stream& stream = decoder.stream;
   // LZMA_CONCATENATED: `xz` appends streams when files are concatenated; read them all.
   if (lzma_stream_decoder(&stream, UINT64_MAX, LZMA_CONCATENATED) != LZMA_OK)
     fail("{}: cannot start the xz decoder", path);
@@ -41,7 +57,6 @@ std::string decompress_xz(const std::string& path, const std::string& in, uint64
     status = lzma_code(&stream, LZMA_FINISH);
     used = out.size() - stream.avail_out;
   }
-  lzma_end(&stream);
   if (status != LZMA_STREAM_END) {
     const char* why = status == LZMA_BUF_ERROR      ? "truncated"
                       : status == LZMA_DATA_ERROR   ? "corrupt data"
@@ -58,8 +73,10 @@ std::string decompress_gzip(const std::string& path, const std::string& in, uint
   size_t used = 0, consumed = 0;
   // One member after another: `cat a.gz b.gz` is a valid gzip file of both.
   while (consumed < in.size()) {
-    z_stream stream{};
+    GzipDecoder decoder;
+    z_stream& stream = decoder.stream;
     if (inflateInit2(&stream, 16 + MAX_WBITS) != Z_OK) fail("{}: cannot start the gzip decoder", path);
+    decoder.started = true;
     stream.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(in.data() + consumed));
     stream.avail_in = static_cast<uInt>(std::min<size_t>(in.size() - consumed, UINT32_MAX));
     int status = Z_OK;
@@ -71,7 +88,6 @@ std::string decompress_gzip(const std::string& path, const std::string& in, uint
       if (status == Z_BUF_ERROR && stream.avail_in == 0) break;  // the input ended inside the stream
     }
     consumed = static_cast<size_t>(reinterpret_cast<const char*>(stream.next_in) - in.data());
-    inflateEnd(&stream);
     if (status != Z_STREAM_END) fail("{}: gzip: {}", path, status == Z_DATA_ERROR ? "corrupt data" : "truncated");
   }
   out.resize(used);
@@ -101,7 +117,9 @@ std::string decompress_file(const std::string& path, Compression compression, ui
 }
 
 std::string without_compression_suffix(const std::string& path) {
-  const std::string extension = std::filesystem::path(path).extension().string();
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
   return extension == ".xz" || extension == ".gz" ? path.substr(0, path.size() - extension.size()) : path;
 }
 

@@ -71,6 +71,8 @@ TEST_F(Compressed, NamesAndMaterialNamesLookThroughTheSuffix) {
   EXPECT_FALSE(has_table_extension("a/notes.txt.gz"));
   EXPECT_EQ(table_material_name("a/gold-metallic-paint.binary.xz"), "gold-metallic-paint");
   EXPECT_EQ(without_compression_suffix("x.csv.gz"), "x.csv");
+  EXPECT_EQ(table_material_name("a/GOLD.BINARY.XZ"), "GOLD");
+  EXPECT_EQ(without_compression_suffix("x.csv"), "x.csv");
 }
 
 TEST_F(Compressed, DamagedOrOversizedFilesAreRefusedByName) {
@@ -94,11 +96,15 @@ TEST_F(Compressed, DamagedOrOversizedFilesAreRefusedByName) {
     }
   }
   // A decompression bomb (or a file that is no table): refused at the limit, not read to the end.
-  try {
-    decompress_file(table_ + ".xz", Compression::Xz, 1000);
-    ADD_FAILURE() << "decompressed past the limit";
-  } catch (const Error& e) {
-    EXPECT_EQ(std::string(e.what()), table_ + ".xz: decompresses to more than 1000 bytes: not a measured table");
+  // Under the sanitizers this also shows that the decoder's state is freed when the limit throws.
+  for (const auto& [suffix, compression] : {std::pair{".xz", Compression::Xz}, std::pair{".gz", Compression::Gzip}}) {
+    try {
+      decompress_file(table_ + suffix, compression, 1000);
+      ADD_FAILURE() << "decompressed past the limit";
+    } catch (const Error& e) {
+      EXPECT_EQ(std::string(e.what()),
+                table_ + suffix + ": decompresses to more than 1000 bytes: not a measured table");
+    }
   }
 }
 
