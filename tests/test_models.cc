@@ -52,6 +52,32 @@ TEST(Registry, ParameterTablesAreConsistent) {
   }
 }
 
+// A stylised shader's albedo multiplies n·l as it is; a physically based model's is a reflectance,
+// divided by π. The meaning users read says which: at normal light and view, with every other
+// colour zero, albedo 1 adds about 1/π to the shaded value of a physically based model; a stylised
+// one adds at least 0.45 (1 for half-Lambert, wrap, Phong, ...; 1.5 for toon with its ambient
+// term; Oren-Nayar's A = 0.5 at the default roughness).
+TEST(Registry, AlbedoMeaningSaysWhetherItIsDividedByPi) {
+  for (const auto& m : all_models()) {
+    const ParamSpec* albedo = m->find_parameter("albedo");
+    if (!albedo) continue;
+    SCOPED_TRACE(m->name());
+    std::vector<double> values = m->default_values();
+    for (const ParamSpec& p : m->parameters())
+      if (p.linear) std::fill_n(values.begin() + m->offset_of(p.name), 3, 0.0);
+    const double dark = m->shade(values.data(), Vec3(0, 0, 1), Vec3(0, 0, 1))[0];
+    std::fill_n(values.begin() + m->offset_of("albedo"), 3, 1.0);
+    const double added = m->shade(values.data(), Vec3(0, 0, 1), Vec3(0, 0, 1))[0] - dark;
+    const bool stylised = albedo->meaning.find("no 1/π") != std::string::npos;
+    if (stylised) {
+      EXPECT_GE(added, 0.45) << albedo->meaning;
+      EXPECT_LE(added, 2.0) << albedo->meaning;
+    } else {
+      EXPECT_NEAR(added, 1.0 / kPi, 0.3 / kPi) << albedo->meaning;
+    }
+  }
+}
+
 // --- hand-derived values -------------------------------------------------------------------
 
 TEST(Lambert, HandValues) {

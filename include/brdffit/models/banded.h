@@ -26,7 +26,7 @@ struct Banded {
   enum : int { kAlbedo = 0, kSteps = 3, kNumValues = 4 };
 
   static std::vector<ParamSpec> parameters() {
-    return {albedo_param(),
+    return {shader_albedo_param(),
             {"steps", 1, 1.0, 32.0, 4.0, "number of light bands n·l is quantised into", Role::Shape, false, true}};
   }
 

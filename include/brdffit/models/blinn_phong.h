@@ -22,10 +22,11 @@ struct BlinnPhong {
   enum : int { kAlbedo = 0, kSpecular = 3, kGloss = 6, kNumValues = 7 };
 
   static std::vector<ParamSpec> parameters() {
-    return {albedo_param(),
-            specular_param(100.0, 0.2, "highlight intensity per channel (seed 000's _SpecularPower·_SpecularColor)"),
-            {"gloss", 1, 1.0, 100000.0, 64.0, "Blinn exponent on n·h: larger is a smaller, sharper highlight",
-             Role::Exponent, false, false, Spacing::Log}};
+    return {
+        shader_albedo_param(),
+        specular_param(100.0, 0.2, "highlight intensity per channel (the shader's specular power × specular colour)"),
+        {"gloss", 1, 1.0, 100000.0, 64.0, "Blinn exponent on n·h: larger is a smaller, sharper highlight",
+         Role::Exponent, false, false, Spacing::Log}};
   }
 
   static std::vector<Nesting> nestings() {

@@ -18,6 +18,16 @@ inline ParamSpec albedo_param(double default_value = 0.5) {
           /*linear=*/true};
 }
 
+// The albedo of the stylised shading models (seed shaders: half-Lambert, wrap, Phong, Blinn-Phong,
+// banded, Minnaert, Oren-Nayar's approximation, toon), which multiply n·l by it with no 1/π: the
+// same surface has a stylised albedo 1/π times its Lambert albedo (a white Lambert surface, albedo
+// 1, is 0.318 here), and its upper bound 1 is π times as bright as Lambert's.
+inline ParamSpec shader_albedo_param(double default_value = 0.5) {
+  ParamSpec p = albedo_param(default_value);
+  p.meaning = "diffuse colour per channel as the shader multiplies n·l (no 1/π: Lambert's albedo/π)";
+  return p;
+}
+
 inline ParamSpec specular_param(double upper, double default_value, const char* meaning) {
   return {"specular", 3, 0.0, upper, default_value, meaning, Role::SpecularColour, /*linear=*/true};
 }

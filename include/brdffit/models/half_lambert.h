@@ -22,7 +22,7 @@ struct HalfLambert {
   enum : int { kAlbedo = 0, kWrap = 3, kNumValues = 4 };
 
   static std::vector<ParamSpec> parameters() {
-    return {albedo_param(),
+    return {shader_albedo_param(),
             {"wrap", 1, 0.5, 1.0, 0.5, "how the shading wraps past the terminator: 0.5 half-Lambert, 1 (n·l)²",
              Role::Wrap}};
   }

@@ -19,7 +19,7 @@ struct Minnaert {
 
   static std::vector<ParamSpec> parameters() {
     return {
-        albedo_param(),
+        shader_albedo_param(),
         {"roughness", 1, 0.0, 2.0, 0.5, "Minnaert exponent k: 0 is Lambert, larger darkens the limb", Role::Roughness}};
   }
 

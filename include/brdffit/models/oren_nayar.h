@@ -25,7 +25,7 @@ struct OrenNayar {
   enum : int { kAlbedo = 0, kRoughness = 3, kNumValues = 4 };
 
   static std::vector<ParamSpec> parameters() {
-    ParamSpec albedo = albedo_param();
+    ParamSpec albedo = shader_albedo_param();
     albedo.linear = false;  // albedo also multiplies the B term
     return {albedo,
             {"roughness", 1, 0.0, 1.5, 0.3, "σ, the standard deviation of facet slopes (radians)", Role::Roughness}};

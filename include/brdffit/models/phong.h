@@ -27,10 +27,11 @@ struct Phong {
   enum : int { kAlbedo = 0, kSpecular = 3, kShininess = 6, kNumValues = 7 };
 
   static std::vector<ParamSpec> parameters() {
-    return {albedo_param(),
-            specular_param(100.0, 0.2, "highlight intensity per channel (seed 000's _SpecularPower·_SpecularColor)"),
-            {"shininess", 1, 1.0, 100000.0, 32.0, "Phong exponent: larger is a smaller, sharper highlight",
-             Role::Exponent, false, false, Spacing::Log}};
+    return {
+        shader_albedo_param(),
+        specular_param(100.0, 0.2, "highlight intensity per channel (the shader's specular power × specular colour)"),
+        {"shininess", 1, 1.0, 100000.0, 32.0, "Phong exponent: larger is a smaller, sharper highlight", Role::Exponent,
+         false, false, Spacing::Log}};
   }
 
   static std::vector<Nesting> nestings() { return {lambert_in_shader({{"specular", 0.0}}, "specular = 0")}; }

@@ -32,7 +32,7 @@ struct Toon {
   static std::vector<ParamSpec> parameters() {
     ParamSpec specular = specular_param(10.0, 0.5, "colour of the highlight (multiplied by albedo)");
     specular.linear = false;  // multiplied by albedo
-    return {albedo_param(),
+    return {shader_albedo_param(),
             specular,
             {"glossiness", 1, 1.0, 100.0, 32.0, "highlight exponent is glossiness²: larger is a smaller highlight",
              Role::Exponent, false, false, Spacing::Log},

@@ -18,7 +18,7 @@ struct Wrap {
   enum : int { kAlbedo = 0, kWrap = 3, kContrast = 4, kNumValues = 5 };
 
   static std::vector<ParamSpec> parameters() {
-    return {albedo_param(),
+    return {shader_albedo_param(),
             {"wrap", 1, 0.0, 1.0, 0.5, "how far light wraps past the terminator (0: Lambert)", Role::Wrap},
             {"contrast", 1, 0.1, 8.0, 1.0, "exponent of the wrapped term: larger is a sharper falloff", Role::Exponent,
              false, false, Spacing::Log}};
