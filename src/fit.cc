@@ -1,4 +1,7 @@
-// The generic fitter (see fit.h for the strategy).
+// The generic fitter (see fit.h for the strategy): the orchestration of its stages. The pieces
+// live in their own units: the objective with doubles (fit_objective.h), the linear colours
+// solved exactly (variable_projection.h), the subset the early stages run on
+// (importance_subset.h), Ceres' residuals (fit_residual.h) and the metrics (metrics.cc).
 #include "brdffit/fit.h"
 
 #include <ceres/ceres.h>
@@ -10,20 +13,18 @@
 #include <cmath>
 #include <functional>
 #include <map>
-#include <numeric>
-#include <random>
 #include <set>
 
 #include "brdffit/error.h"
+#include "brdffit/fit_objective.h"
 #include "brdffit/fit_residual.h"
+#include "brdffit/importance_subset.h"
 #include "brdffit/parallel.h"
+#include "brdffit/variable_projection.h"
 
 namespace brdffit {
 
 namespace {
-
-using Channels = std::array<bool, 3>;
-constexpr Channels kAllChannels{true, true, true};
 
 // Where each flattened value comes from: its parameter and its channel (0 for scalars).
 struct ValueSlot {
@@ -68,155 +69,6 @@ std::unique_ptr<ceres::LossFunction> make_loss(LossKind kind, double scale) {
     case LossKind::None: break;
   }
   return nullptr;
-}
-
-// ---------------------------------------------------------------------------------------------
-// Plain evaluation: cost and residuals with doubles.
-
-// Σ over samples and fitted channels of the squared (robustified, weighted) residual; the
-// objective every stage minimises and every candidate is judged by. Parallel over chunks
-// when the set is large (the final selection evaluates it on every sample).
-double cost_of(const Model& model, const std::vector<double>& values, const std::vector<Sample>& samples, Metric metric,
-               const Channels& channels, const ceres::LossFunction* loss, int threads = 1) {
-  const size_t chunks = samples.size() >= 50000 ? 64 : 1;
-  const size_t per_chunk = (samples.size() + chunks - 1) / chunks;
-  std::vector<double> partial(chunks, 0.0);
-  parallel_for(chunks, chunks > 1 ? threads : 1, [&](size_t chunk) {
-    double sum = 0.0;
-    const size_t end = std::min(samples.size(), (chunk + 1) * per_chunk);
-    for (size_t i = chunk * per_chunk; i < end; ++i) {
-      const Sample& s = samples[i];
-      const Rgb<double> shade = model.shade(values.data(), s.l, s.v);
-      const double sqrt_w = std::sqrt(metric_weight(metric, s.weight));
-      for (int c = 0; c < 3; ++c) {
-        if (!channels[c]) continue;
-        double r, scale;
-        detail::robustify(loss, metric_residual(metric, shade[c], s.value[c]) * sqrt_w, r, scale);
-        sum += r * r;
-      }
-    }
-    partial[chunk] = sum;
-  });
-  const double sum = std::accumulate(partial.begin(), partial.end(), 0.0);
-  return std::isfinite(sum) ? sum : HUGE_VAL;
-}
-
-// Median absolute residual (unweighted by the loss) on the fitted channels, for the robust
-// loss's automatic scale.
-double median_abs_residual(const Model& model, const std::vector<double>& values, const std::vector<Sample>& samples,
-                           Metric metric, const Channels& channels) {
-  std::vector<double> abs_residuals;
-  for (const Sample& s : samples) {
-    const Rgb<double> shade = model.shade(values.data(), s.l, s.v);
-    for (int c = 0; c < 3; ++c)
-      if (channels[c])
-        abs_residuals.push_back(std::fabs(metric_residual(metric, shade[c], s.value[c])) *
-                                std::sqrt(metric_weight(metric, s.weight)));
-  }
-  if (abs_residuals.empty()) return 0.0;
-  auto middle = abs_residuals.begin() + abs_residuals.size() / 2;
-  std::nth_element(abs_residuals.begin(), middle, abs_residuals.end());
-  return *middle;
-}
-
-// ---------------------------------------------------------------------------------------------
-// Variable projection: the linear colour parameters solved exactly for fixed shape parameters.
-
-// Minimises xᵀAx - 2bᵀx over the box lower <= x <= upper for small n (at most a few colour
-// parameters) by trying every active set: each variable free, at its lower or at its upper bound.
-Eigen::VectorXd solve_box_quadratic(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, const Eigen::VectorXd& lower,
-                                    const Eigen::VectorXd& upper) {
-  const int n = static_cast<int>(b.size());
-  int combinations = 1;
-  for (int i = 0; i < n; ++i) combinations *= 3;
-  Eigen::VectorXd best = lower;
-  double best_value = HUGE_VAL;
-  for (int code = 0; code < combinations; ++code) {
-    Eigen::VectorXd x(n);
-    std::vector<int> free;
-    int rest = code;
-    for (int i = 0; i < n; ++i, rest /= 3) {
-      if (rest % 3 == 0) free.push_back(i);
-      x[i] = rest % 3 == 1 ? lower[i] : upper[i];
-    }
-    if (!free.empty()) {
-      const int f = static_cast<int>(free.size());
-      Eigen::MatrixXd a_free(f, f);
-      Eigen::VectorXd rhs(f);
-      for (int i = 0; i < f; ++i) {
-        rhs[i] = b[free[i]];
-        for (int j = 0; j < n; ++j)
-          if (std::find(free.begin(), free.end(), j) == free.end()) rhs[i] -= a(free[i], j) * x[j];
-        for (int j = 0; j < f; ++j) a_free(i, j) = a(free[i], free[j]);
-      }
-      const Eigen::VectorXd x_free = a_free.completeOrthogonalDecomposition().solve(rhs);
-      bool feasible = x_free.allFinite();
-      for (int i = 0; i < f && feasible; ++i) {
-        feasible = x_free[i] >= lower[free[i]] - 1e-12 && x_free[i] <= upper[free[i]] + 1e-12;
-        x[free[i]] = std::clamp(x_free[i], lower[free[i]], upper[free[i]]);
-      }
-      if (!feasible) continue;
-    }
-    const double value = x.dot(a * x) - 2.0 * b.dot(x);
-    if (value < best_value) {
-      best_value = value;
-      best = x;
-    }
-  }
-  return best;
-}
-
-// Sets the model's linear parameters (fitted channels only) to their weighted least-squares
-// optimum within bounds, for the current shape parameters. The prediction is affine in them:
-// shade_c = base_c + Σ_j x_jc · basis_jc. For the relative and log metrics the residual is
-// weighted by its first-order sensitivity so the solve matches the metric near the data.
-void solve_linear(const Model& model, std::vector<double>& values, const std::vector<Sample>& samples, Metric metric,
-                  const Channels& channels) {
-  std::vector<const ParamSpec*> linear;
-  for (const ParamSpec& p : model.parameters())
-    if (p.linear) linear.push_back(&p);
-  if (linear.empty()) return;
-  const int m = static_cast<int>(linear.size());
-
-  std::vector<double> probe = values;
-  for (const ParamSpec* p : linear) std::fill_n(probe.begin() + model.offset_of(p->name), 3, 0.0);
-  std::array<Eigen::MatrixXd, 3> a;
-  std::array<Eigen::VectorXd, 3> b;
-  for (int c = 0; c < 3; ++c) {
-    a[c] = Eigen::MatrixXd::Zero(m, m);
-    b[c] = Eigen::VectorXd::Zero(m);
-  }
-  std::vector<Rgb<double>> basis(m);
-  for (const Sample& s : samples) {
-    const Rgb<double> base = model.shade(probe.data(), s.l, s.v);
-    for (int j = 0; j < m; ++j) {
-      const int offset = model.offset_of(linear[j]->name);
-      std::fill_n(probe.begin() + offset, 3, 1.0);
-      basis[j] = model.shade(probe.data(), s.l, s.v) - base;
-      std::fill_n(probe.begin() + offset, 3, 0.0);
-    }
-    for (int c = 0; c < 3; ++c) {
-      if (!channels[c]) continue;
-      double w = metric_weight(metric, s.weight);
-      if (metric == Metric::Relative) w /= std::pow(std::fabs(s.value[c]) + kRelativeEpsilon, 2);
-      if (metric == Metric::Log) w /= std::pow(1.0 + std::max(s.value[c], 0.0), 2);
-      const double target = s.value[c] - base[c];
-      for (int i = 0; i < m; ++i) {
-        b[c][i] += w * basis[i][c] * target;
-        for (int j = 0; j < m; ++j) a[c](i, j) += w * basis[i][c] * basis[j][c];
-      }
-    }
-  }
-  Eigen::VectorXd lower(m), upper(m);
-  for (int j = 0; j < m; ++j) {
-    lower[j] = linear[j]->lower;
-    upper[j] = linear[j]->upper;
-  }
-  for (int c = 0; c < 3; ++c) {
-    if (!channels[c]) continue;
-    const Eigen::VectorXd x = solve_box_quadratic(a[c], b[c], lower, upper);
-    for (int j = 0; j < m; ++j) values[model.offset_of(linear[j]->name) + c] = x[j];
-  }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -516,73 +368,6 @@ class LeastSquares {
   const FitOptions& options_;
 };
 
-// A deterministic subset of about `count` samples standing in for all of them in the early,
-// cheap stages. A measured table's error is dominated by few samples (a specular peak covers
-// few bins with large values), which a uniform subset would mostly miss; so samples are drawn
-// with probability ∝ weight·(value + error + mean value)² by systematic sampling, and each kept
-// sample's weight is divided by its expected count so sums over the subset estimate sums over
-// all. `error` is the current fit's absolute residual where one is known: without it a subset
-// drawn where the data are bright never sees where the model is bright and the data are not
-// (a narrow grazing spike of a sharp lobe on a matte material), and a stage on it walks into
-// that spike.
-std::vector<Sample> subsample(const std::vector<Sample>& samples, size_t count, uint64_t seed,
-                              const std::vector<double>& error = {}) {
-  if (samples.size() <= count) return samples;
-  double mean = 0.0, weight_sum = 0.0;
-  for (const Sample& s : samples) {
-    mean += s.weight * s.value.cwiseAbs().mean();
-    weight_sum += s.weight;
-  }
-  mean /= std::max(weight_sum, 1e-300);
-  std::vector<double> score(samples.size());
-  double total = 0.0;
-  for (size_t i = 0; i < samples.size(); ++i) {
-    const double m = samples[i].value.cwiseAbs().mean() + (error.empty() ? 0.0 : error[i]) + mean;
-    score[i] = samples[i].weight * m * m;
-    total += score[i];
-  }
-  if (!(total > 0.0) || !std::isfinite(total))
-    return std::vector<Sample>(samples.begin(), samples.begin() + static_cast<std::ptrdiff_t>(count));
-  std::vector<Sample> subset;
-  subset.reserve(count);
-  const double step = total / count;
-  std::mt19937_64 rng(seed);
-  double next = std::uniform_real_distribution<double>(0.0, step)(rng);
-  double cumulative = 0.0;
-  for (size_t i = 0; i < samples.size(); ++i) {
-    cumulative += score[i];
-    int hits = 0;
-    while (next < cumulative) {
-      ++hits;
-      next += step;
-    }
-    if (hits == 0) continue;
-    Sample s = samples[i];
-    s.weight *= hits * step / score[i];
-    subset.push_back(s);
-  }
-  return subset;
-}
-
-// |prediction − measurement| per sample, averaged over the fitted channels (for subsample).
-std::vector<double> absolute_errors(const Model& model, const std::vector<double>& values,
-                                    const std::vector<Sample>& samples, const Channels& channels, int threads) {
-  std::vector<double> error(samples.size());
-  const size_t chunks = 64, per_chunk = (samples.size() + chunks - 1) / chunks;
-  const int fitted = static_cast<int>(std::count(channels.begin(), channels.end(), true));
-  parallel_for(chunks, threads, [&](size_t chunk) {
-    const size_t end = std::min(samples.size(), (chunk + 1) * per_chunk);
-    for (size_t i = chunk * per_chunk; i < end; ++i) {
-      const Rgb<double> shade = model.shade(values.data(), samples[i].l, samples[i].v);
-      double sum = 0.0;
-      for (int c = 0; c < 3; ++c)
-        if (channels[c]) sum += std::fabs(shade[c] - samples[i].value[c]);
-      error[i] = std::isfinite(sum) ? sum / fitted : 0.0;
-    }
-  });
-  return error;
-}
-
 // One fit of the given channels: multi-start on the subsample, refinement on larger subsets and
 // on every sample, and the final choice among every candidate met on the way by the objective
 // on ALL samples.
@@ -596,7 +381,7 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
                         const std::vector<double>& initial, const std::vector<std::vector<double>>& nested_starts) {
   ChannelFit fit;
   const int threads = thread_count(options.threads);
-  const std::vector<Sample> small = subsample(data.samples, options.subsample, options.seed);
+  const std::vector<Sample> small = importance_subset(data.samples, options.subsample, options.seed);
   const bool small_is_all = small.size() == data.samples.size();
 
   std::vector<Start> starts;
@@ -682,8 +467,8 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
   std::vector<Sample> largest_subset;
   if (!options.single_start)
     for (size_t draws = small.size() * 10; draws < data.size(); draws *= 10) {
-      std::vector<Sample> subset = subsample(data.samples, draws, options.seed,
-                                             absolute_errors(model, best.values, data.samples, channels, threads));
+      std::vector<Sample> subset = importance_subset(
+          data.samples, draws, options.seed, absolute_errors(model, best.values, data.samples, channels, threads));
       const LeastSquares on_subset(model, subset, options.metric, channels, loss.get(), options);
       Refinement r = on_subset.run(best.values, options.max_iterations, 1e-6);
       fit.iterations += r.iterations;
@@ -887,18 +672,6 @@ FitResult fit_one(const Model& model, const SampleSet& data, const FitOptions& o
   return result;
 }
 
-// The error a model predicting zero everywhere would have: the scale of the data in the metric.
-double zero_prediction_error(const SampleSet& data, Metric metric) {
-  double sum = 0.0, weight = 0.0;
-  for (const Sample& s : data.samples)
-    for (int c = 0; c < 3; ++c) {
-      const double w = metric_weight(metric, s.weight);
-      sum += w * std::pow(metric_residual(metric, 0.0, s.value[c]), 2);
-      weight += w;
-    }
-  return weight > 0.0 ? std::sqrt(sum / weight) : 0.0;
-}
-
 std::string format_value(const std::vector<double>& v) {
   if (v.size() == 1) return fmt::format("{:.4g}", v[0]);
   return fmt::format("[{:.4g}, {:.4g}, {:.4g}]", v[0], v[1], v[2]);
@@ -1059,83 +832,6 @@ std::vector<FitResult> fit_models(const std::vector<const Model*>& models, const
     results.push_back(std::move(r));
   }
   return results;
-}
-
-Metrics evaluate_metrics(const Model& model, const std::vector<double>& values, const SampleSet& data,
-                         const std::vector<std::vector<double>>& per_channel_values) {
-  // The typical relative error is a weighted median, found in a histogram of log10 of the
-  // relative error (kBinsPerDecade bins per decade from 1e-6 to 1e6: 1.2% resolution).
-  constexpr int kBinsPerDecade = 200, kDecades = 12;
-  constexpr int kBins = kBinsPerDecade * kDecades;
-  auto bin_of = [](double relative) {
-    const double position = (std::log10(std::max(relative, 1e-300)) + kDecades / 2) * kBinsPerDecade;
-    return std::clamp(static_cast<int>(position), 0, kBins - 1);
-  };
-  double mean_abs = 0.0, mean_weight = 0.0;
-  for (const Sample& s : data.samples) {
-    mean_abs += s.weight * s.value.cwiseAbs().sum();
-    mean_weight += 3.0 * s.weight;
-  }
-  const double floor = 0.1 * mean_abs / std::max(mean_weight, 1e-300) + 1e-300;
-  struct Sums {
-    double weight = 0, cosine = 0, log = 0, relative = 0, plain = 0, max = 0;
-    size_t count = 0;
-    std::vector<double> typical = std::vector<double>(kBins, 0.0);
-  };
-  const size_t chunks = 64;
-  std::vector<Sums> partial(chunks);
-  const size_t per_chunk = (data.size() + chunks - 1) / chunks;
-  parallel_for(chunks, thread_count(0), [&](size_t chunk) {
-    Sums& sums = partial[chunk];
-    const size_t end = std::min(data.size(), (chunk + 1) * per_chunk);
-    for (size_t i = chunk * per_chunk; i < end; ++i) {
-      const Sample& s = data.samples[i];
-      Rgb<double> predicted;
-      if (per_channel_values.empty()) {
-        predicted = model.shade(values.data(), s.l, s.v);
-      } else {
-        for (int c = 0; c < 3; ++c) predicted[c] = model.shade(per_channel_values[c].data(), s.l, s.v)[c];
-      }
-      for (int c = 0; c < 3; ++c) {
-        const double p = predicted[c], m = s.value[c];
-        sums.weight += s.weight;
-        sums.cosine += s.weight * std::pow(metric_residual(Metric::Cosine, p, m), 2);
-        sums.log += s.weight * std::pow(metric_residual(Metric::Log, p, m), 2);
-        sums.relative += s.weight * std::pow(metric_residual(Metric::Relative, p, m), 2);
-        sums.plain += std::pow(p - m, 2);
-        sums.max = std::max(sums.max, std::fabs(p - m));
-        sums.typical[bin_of(std::fabs(p - m) / (std::fabs(m) + floor))] += s.weight;
-        ++sums.count;
-      }
-    }
-  });
-  Sums total;
-  for (const Sums& s : partial) {
-    total.weight += s.weight;
-    total.cosine += s.cosine;
-    total.log += s.log;
-    total.relative += s.relative;
-    total.plain += s.plain;
-    total.max = std::max(total.max, s.max);
-    total.count += s.count;
-    for (int b = 0; b < kBins; ++b) total.typical[b] += s.typical[b];
-  }
-  Metrics metrics;
-  if (total.count == 0) return metrics;
-  metrics.cosine = std::sqrt(total.cosine / total.weight);
-  metrics.log = std::sqrt(total.log / total.weight);
-  metrics.relative = std::sqrt(total.relative / total.weight);
-  metrics.l2 = std::sqrt(total.plain / total.count);
-  metrics.max = total.max;
-  double below = 0.0;
-  for (int b = 0; b < kBins; ++b) {
-    below += total.typical[b];
-    if (below >= 0.5 * total.weight) {
-      metrics.typical = std::pow(10.0, (b + 0.5) / kBinsPerDecade - kDecades / 2);
-      break;
-    }
-  }
-  return metrics;
 }
 
 }  // namespace brdffit

@@ -9,7 +9,6 @@
 
 #include "brdffit/error.h"
 #include "brdffit/fit.h"
-#include "brdffit/metric.h"
 #include "brdffit/param.h"
 #include "brdffit/two_lobes.h"
 
@@ -115,32 +114,6 @@ std::string model_names() {
   std::string names;
   for (const auto& m : all_models()) names += (names.empty() ? "" : ", ") + m->name();
   return names;
-}
-
-const char* metric_name(Metric metric) {
-  switch (metric) {
-    case Metric::Cosine: return "cosine";
-    case Metric::Log: return "log";
-    case Metric::Relative: return "relative";
-    case Metric::L2: return "l2";
-  }
-  return "cosine";
-}
-
-std::optional<Metric> parse_metric(const std::string& name) {
-  for (Metric m : {Metric::Cosine, Metric::Log, Metric::Relative, Metric::L2})
-    if (name == metric_name(m)) return m;
-  return std::nullopt;
-}
-
-double Metrics::get(Metric metric) const {
-  switch (metric) {
-    case Metric::Cosine: return cosine;
-    case Metric::Log: return log;
-    case Metric::Relative: return relative;
-    case Metric::L2: return l2;
-  }
-  return cosine;
 }
 
 namespace {

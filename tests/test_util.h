@@ -43,8 +43,6 @@ inline std::vector<double> random_values(const Model& model, std::mt19937_64& rn
   return values;
 }
 
-// Whether this is a CI run (CI=true): there ../shared is always present, so a test that needs it
-// fails instead of skipping (a missing mount must not pass as green).
 // A model or material name as a GoogleTest parameter name (letters, digits and '_' only).
 inline std::string gtest_name(std::string name) {
   for (char& c : name)
@@ -52,6 +50,8 @@ inline std::string gtest_name(std::string name) {
   return name;
 }
 
+// Whether this is a CI run (CI=true): there ../shared is always present, so a test that needs it
+// fails instead of skipping (a missing mount must not pass as green).
 inline bool running_in_ci() {
   const char* ci = std::getenv("CI");
   return ci && std::string(ci) == "true";

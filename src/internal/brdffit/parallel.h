@@ -30,4 +30,16 @@ void parallel_for(size_t n, int threads, Body&& body) {
   for (std::thread& t : pool) t.join();
 }
 
+// Splits [0, count) into `chunks` contiguous ranges and calls body(begin, end, chunk) for each
+// on up to `threads` threads: the loop over samples of the fitter's cost and of the metrics,
+// each chunk summing into its own slot so the total does not depend on the thread count.
+template <class Body>
+void parallel_chunks(size_t count, size_t chunks, int threads, Body&& body) {
+  const size_t per_chunk = (count + chunks - 1) / std::max<size_t>(chunks, 1);
+  parallel_for(chunks, threads, [&](size_t chunk) {
+    const size_t begin = std::min(count, chunk * per_chunk);
+    body(begin, std::min(count, begin + per_chunk), chunk);
+  });
+}
+
 }  // namespace brdffit

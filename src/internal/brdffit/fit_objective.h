@@ -1,0 +1,41 @@
+// The fitter's objective evaluated with plain doubles: the cost every stage minimises and every
+// candidate is judged by, and the per-sample errors the importance subset and the robust
+// loss's scale are drawn from. (Ceres' derivatives come from fit_residual.h, on the same
+// residuals.)
+#pragma once
+
+#include <ceres/loss_function.h>
+
+#include <array>
+#include <vector>
+
+#include "brdffit/metric.h"
+#include "brdffit/model.h"
+#include "brdffit/samples.h"
+
+namespace brdffit {
+
+// Which colour channels a fit adjusts (a per-channel fit runs once per channel).
+using Channels = std::array<bool, 3>;
+constexpr Channels kAllChannels{true, true, true};
+
+// Σ over samples and fitted channels of ρ((metric residual · √weight)²), ρ the robust loss
+// (identity when loss is null). Parallel over chunks on `threads` threads when the set is large.
+// HUGE_VAL when the sum is not finite, so a diverging candidate always loses.
+double cost_of(const Model& model, const std::vector<double>& values, const std::vector<Sample>& samples, Metric metric,
+               const Channels& channels, const ceres::LossFunction* loss, int threads = 1);
+
+// The median of |metric residual · √weight| over samples and fitted channels: the robust loss's
+// automatic scale (σ ≈ 1.4826 × this for Gaussian noise).
+double median_abs_residual(const Model& model, const std::vector<double>& values, const std::vector<Sample>& samples,
+                           Metric metric, const Channels& channels);
+
+// |prediction − measurement| per sample, averaged over the fitted channels (0 where not finite).
+std::vector<double> absolute_errors(const Model& model, const std::vector<double>& values,
+                                    const std::vector<Sample>& samples, const Channels& channels, int threads);
+
+// The error, in the metric, of a model predicting zero everywhere: the data's own scale, which
+// a fit's error is judged against.
+double zero_prediction_error(const SampleSet& data, Metric metric);
+
+}  // namespace brdffit

@@ -1,0 +1,26 @@
+// Variable projection: a model's linear parameters (albedo, specular, ... : `ParamSpec::linear`)
+// solved exactly for fixed shape parameters, so the fitter's grid and coordinate search only
+// search the shape parameters and every point they try has its best colours.
+#pragma once
+
+#include <Eigen/Dense>
+#include <vector>
+
+#include "brdffit/fit_objective.h"
+
+namespace brdffit {
+
+// The minimiser of xᵀAx − 2bᵀx over the box lower ≤ x ≤ upper, A symmetric positive
+// semi-definite, for small n (a model's few linear parameters): every active set is tried, each
+// variable free, at its lower or at its upper bound (3ⁿ systems).
+Eigen::VectorXd solve_box_quadratic(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, const Eigen::VectorXd& lower,
+                                    const Eigen::VectorXd& upper);
+
+// Sets the model's linear parameters in the fitted channels to their weighted least-squares
+// optimum within their bounds, the other values held. The prediction is affine in them:
+// shade_c = base_c + Σ_j x_jc · basis_jc. For the relative and log metrics each residual is
+// weighted by its first-order sensitivity, so the solve matches the metric near the data.
+void solve_linear(const Model& model, std::vector<double>& values, const std::vector<Sample>& samples, Metric metric,
+                  const Channels& channels);
+
+}  // namespace brdffit

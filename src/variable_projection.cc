@@ -1,0 +1,101 @@
+// Variable projection (see variable_projection.h).
+#include "brdffit/variable_projection.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace brdffit {
+
+Eigen::VectorXd solve_box_quadratic(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, const Eigen::VectorXd& lower,
+                                    const Eigen::VectorXd& upper) {
+  const int n = static_cast<int>(b.size());
+  int combinations = 1;
+  for (int i = 0; i < n; ++i) combinations *= 3;
+  Eigen::VectorXd best = lower;
+  double best_value = HUGE_VAL;
+  for (int code = 0; code < combinations; ++code) {
+    Eigen::VectorXd x(n);
+    std::vector<int> free;
+    int rest = code;
+    for (int i = 0; i < n; ++i, rest /= 3) {
+      if (rest % 3 == 0) free.push_back(i);
+      x[i] = rest % 3 == 1 ? lower[i] : upper[i];
+    }
+    if (!free.empty()) {
+      const int f = static_cast<int>(free.size());
+      Eigen::MatrixXd a_free(f, f);
+      Eigen::VectorXd rhs(f);
+      for (int i = 0; i < f; ++i) {
+        rhs[i] = b[free[i]];
+        for (int j = 0; j < n; ++j)
+          if (std::find(free.begin(), free.end(), j) == free.end()) rhs[i] -= a(free[i], j) * x[j];
+        for (int j = 0; j < f; ++j) a_free(i, j) = a(free[i], free[j]);
+      }
+      const Eigen::VectorXd x_free = a_free.completeOrthogonalDecomposition().solve(rhs);
+      bool feasible = x_free.allFinite();
+      for (int i = 0; i < f && feasible; ++i) {
+        feasible = x_free[i] >= lower[free[i]] - 1e-12 && x_free[i] <= upper[free[i]] + 1e-12;
+        x[free[i]] = std::clamp(x_free[i], lower[free[i]], upper[free[i]]);
+      }
+      if (!feasible) continue;
+    }
+    const double value = x.dot(a * x) - 2.0 * b.dot(x);
+    if (value < best_value) {
+      best_value = value;
+      best = x;
+    }
+  }
+  return best;
+}
+
+void solve_linear(const Model& model, std::vector<double>& values, const std::vector<Sample>& samples, Metric metric,
+                  const Channels& channels) {
+  std::vector<const ParamSpec*> linear;
+  for (const ParamSpec& p : model.parameters())
+    if (p.linear) linear.push_back(&p);
+  if (linear.empty()) return;
+  const int m = static_cast<int>(linear.size());
+
+  std::vector<double> probe = values;
+  for (const ParamSpec* p : linear) std::fill_n(probe.begin() + model.offset_of(p->name), 3, 0.0);
+  std::array<Eigen::MatrixXd, 3> a;
+  std::array<Eigen::VectorXd, 3> b;
+  for (int c = 0; c < 3; ++c) {
+    a[c] = Eigen::MatrixXd::Zero(m, m);
+    b[c] = Eigen::VectorXd::Zero(m);
+  }
+  std::vector<Rgb<double>> basis(m);
+  for (const Sample& s : samples) {
+    const Rgb<double> base = model.shade(probe.data(), s.l, s.v);
+    for (int j = 0; j < m; ++j) {
+      const int offset = model.offset_of(linear[j]->name);
+      std::fill_n(probe.begin() + offset, 3, 1.0);
+      basis[j] = model.shade(probe.data(), s.l, s.v) - base;
+      std::fill_n(probe.begin() + offset, 3, 0.0);
+    }
+    for (int c = 0; c < 3; ++c) {
+      if (!channels[c]) continue;
+      double w = metric_weight(metric, s.weight);
+      if (metric == Metric::Relative) w /= std::pow(std::fabs(s.value[c]) + kRelativeEpsilon, 2);
+      if (metric == Metric::Log) w /= std::pow(1.0 + std::max(s.value[c], 0.0), 2);
+      const double target = s.value[c] - base[c];
+      for (int i = 0; i < m; ++i) {
+        b[c][i] += w * basis[i][c] * target;
+        for (int j = 0; j < m; ++j) a[c](i, j) += w * basis[i][c] * basis[j][c];
+      }
+    }
+  }
+  Eigen::VectorXd lower(m), upper(m);
+  for (int j = 0; j < m; ++j) {
+    lower[j] = linear[j]->lower;
+    upper[j] = linear[j]->upper;
+  }
+  for (int c = 0; c < 3; ++c) {
+    if (!channels[c]) continue;
+    const Eigen::VectorXd x = solve_box_quadratic(a[c], b[c], lower, upper);
+    for (int j = 0; j < m; ++j) values[model.offset_of(linear[j]->name) + c] = x[j];
+  }
+}
+
+}  // namespace brdffit

@@ -1,0 +1,79 @@
+// Variable projection: the box-constrained quadratic against hand solutions, and the linear
+// parameters solved exactly from data baked with known values.
+#include <gtest/gtest.h>
+
+#include "brdffit/model.h"
+#include "brdffit/variable_projection.h"
+#include "test_util.h"
+
+namespace brdffit {
+namespace {
+
+Eigen::VectorXd solve(const Eigen::Matrix2d& a, const Eigen::Vector2d& b, double lower, double upper) {
+  return solve_box_quadratic(a, b, Eigen::Vector2d::Constant(lower), Eigen::Vector2d::Constant(upper));
+}
+
+TEST(BoxQuadratic, InteriorOptimumIsTheUnconstrainedSolution) {
+  // ∇ = 2(Ax − b) = 0: x = A⁻¹b = (1/2, 1/4).
+  const Eigen::VectorXd x = solve(Eigen::Vector2d(2, 1).asDiagonal().toDenseMatrix(), Eigen::Vector2d(1, 0.25), 0, 1);
+  EXPECT_NEAR(x[0], 0.5, 1e-12);
+  EXPECT_NEAR(x[1], 0.25, 1e-12);
+}
+
+TEST(BoxQuadratic, CoupledVariablesMoveWhenOneHitsItsBound) {
+  // A = [[2, 1], [1, 2]], b = (3, 0): unconstrained x = (2, −1). With x₂ ≥ 0, x₂ = 0 and
+  // x₁ minimises 2x₁² − 6x₁: x₁ = 3/2 (not the unconstrained 2). KKT: ∂/∂x₂ = 2(x₁ + 2x₂) = 3 > 0.
+  Eigen::Matrix2d a;
+  a << 2, 1, 1, 2;
+  const Eigen::VectorXd x = solve(a, Eigen::Vector2d(3, 0), 0, 5);
+  EXPECT_NEAR(x[0], 1.5, 1e-12);
+  EXPECT_NEAR(x[1], 0.0, 1e-12);
+}
+
+TEST(BoxQuadratic, UpperBoundsAndASingularMatrix) {
+  // Both variables want 3 but stop at 1.
+  const Eigen::VectorXd x = solve(Eigen::Matrix2d::Identity(), Eigen::Vector2d(3, 3), 0, 1);
+  EXPECT_NEAR(x[0], 1.0, 1e-12);
+  EXPECT_NEAR(x[1], 1.0, 1e-12);
+  // Only x₁ + x₂ is determined (A = 11ᵀ, b = (1, 1)): any split with x₁ + x₂ = 1 is optimal.
+  const Eigen::VectorXd y = solve(Eigen::Matrix2d::Ones(), Eigen::Vector2d(1, 1), 0, 1);
+  EXPECT_NEAR(y[0] + y[1], 1.0, 1e-12);
+}
+
+std::vector<double> with(const Model& model, std::vector<double> values, const std::string& name,
+                         std::array<double, 3> colour) {
+  std::copy(colour.begin(), colour.end(), values.begin() + model.offset_of(name));
+  return values;
+}
+
+TEST(SolveLinear, RecoversTheColoursOfBakedDataExactlyInEveryMetric) {
+  // Blinn-Phong at its true gloss: the albedo and specular colours are linear, so one solve
+  // from any starting colours gives the baked ones, whatever the metric's weighting.
+  const Model& model = *find_model("blinn-phong");
+  std::vector<double> truth = with(model, model.default_values(), "albedo", {0.2, 0.5, 0.8});
+  truth = with(model, truth, "specular", {0.3, 0.1, 0.05});
+  const SampleSet data = test::model_table(model, truth, 400, 0.0, 7, 0.05);
+  for (Metric metric : {Metric::Cosine, Metric::Log, Metric::Relative, Metric::L2}) {
+    SCOPED_TRACE(metric_name(metric));
+    std::vector<double> values = with(model, with(model, truth, "albedo", {0.9, 0.9, 0.9}), "specular", {0, 0, 0});
+    solve_linear(model, values, data.samples, metric, kAllChannels);
+    for (size_t i = 0; i < truth.size(); ++i) EXPECT_NEAR(values[i], truth[i], 1e-9) << i;
+  }
+}
+
+TEST(SolveLinear, ClampsToTheBoundsAndLeavesUnfittedChannelsAlone) {
+  // Lambert data brighter than albedo 1 in red: the solve stops at the bound there. Only the red
+  // and blue channels are fitted, so green keeps the value it had.
+  const Model& lambert = *find_model("lambert");
+  const SampleSet data = test::model_table(lambert, {1.0, 0.4, 0.6}, 200, 0.0, 3, 0.05);
+  SampleSet brighter = data;
+  for (Sample& s : brighter.samples) s.value[0] *= 1.5;
+  std::vector<double> values = {0.5, 0.123, 0.5};
+  solve_linear(lambert, values, brighter.samples, Metric::Cosine, {true, false, true});
+  EXPECT_DOUBLE_EQ(values[0], 1.0);
+  EXPECT_DOUBLE_EQ(values[1], 0.123);
+  EXPECT_NEAR(values[2], 0.6, 1e-9);
+}
+
+}  // namespace
+}  // namespace brdffit
