@@ -49,7 +49,10 @@ void run_render(const RenderArgs& args) {
   check_outputs({args.input}, {args.out});
   const SphereLighting lighting = args.lighting.lighting();
   cv::Mat sphere;
-  std::string what;
+  std::string what, reference_from = "the sphere's 99th percentile";
+  const cv::Mat mask = sphere_mask(args.size);
+  double reference = args.reference;
+  if (reference > 0.0) reference_from = "--reference";
   if (fs::path(args.input).extension() == ".json") {
     const FitDocument document = read_fit_document(args.input);
     std::string names;
@@ -63,6 +66,14 @@ void run_render(const RenderArgs& args) {
     if (!model) fail("{}: {} is not a model of this version of brdffit", args.input, args.model);
     sphere = render_fitted_sphere(*model, *fit, lighting, args.size);
     what = args.model + " fitted to " + document.input_path;
+    // The fitted table's own reference, so that `render TABLE` and `render FIT` pictures compare.
+    if (!(reference > 0.0) && !stores_linear_values(args.out)) try {
+        reference =
+            tone_reference(render_measured_sphere(*open_measured(document.input_path), lighting, args.size), mask);
+        reference_from = "the measured table's, as `brdffit render " + document.input_path + "` uses";
+      } catch (const Error&) {
+        // Not a readable table (samples, photographs, a moved file): the fit's own sphere.
+      }
   } else {
     if (!args.model.empty()) fail("-m applies to result documents (.json); {} is a table", args.input);
     sphere = render_measured_sphere(*open_measured(args.input), lighting, args.size);
@@ -73,9 +84,10 @@ void run_render(const RenderArgs& args) {
     fmt::print("wrote {} ({}, {}x{} linear f·cosθi)\n", args.out, what, args.size, args.size);
     return;
   }
-  const double reference = args.reference > 0.0 ? args.reference : tone_reference(sphere, sphere_mask(args.size));
+  if (!(reference > 0.0)) reference = tone_reference(sphere, mask);
   write_image(args.out, tone_map(sphere, reference), Encoding::Srgb8);
-  fmt::print("wrote {} ({}, {}x{}, tone reference {:.6g})\n", args.out, what, args.size, args.size, reference);
+  fmt::print("wrote {} ({}, {}x{}, tone reference {:.6g}: {})\n", args.out, what, args.size, args.size, reference,
+             reference_from);
 }
 
 struct ReportArgs {
@@ -116,7 +128,9 @@ void add_render_commands(CLI::App& app) {
   render_cmd->add_option("--size", render->size, "Picture size in pixels")->check(CLI::Range(8, 8192));
   render_cmd
       ->add_option("--reference", render->reference,
-                   "PNG: the f·cosθi shown at about 75% grey (default: the sphere's 99th percentile)")
+                   "PNG: the f·cosθi shown at about 75% grey (default: the 99th percentile of the measured table's "
+                   "sphere, for a fit too, so that pictures of a table and of its fits compare; a fit's own "
+                   "when its table cannot be read)")
       ->check(CLI::PositiveNumber);
   render_cmd->add_option("-o,--out", render->out, "Picture: .png (tone-mapped sRGB) or .exr (linear)")->required();
   render_cmd->callback([render] { run_render(*render); });

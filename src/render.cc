@@ -65,6 +65,41 @@ cv::Mat render_fitted_sphere(const Model& model, const FitResult& fit, const Sph
                        cv::Size(size, size), fit.channel_values);
 }
 
+namespace {
+
+// The environment's radiance towards -direction, in the camera frame (y up, z toward the camera):
+// a sky from 0.25 at the horizon to 1 overhead, a ground of 0.1 and a warm key light 4x the
+// zenith within 25° of the upper left, in front of the sphere.
+Rgb<double> environment_radiance(const Vec3& direction) {
+  const double up = direction.y();
+  Rgb<double> radiance = up >= 0.0 ? Rgb<double>::Constant(0.25 + 0.75 * up) : Rgb<double>::Constant(0.1);
+  const Vec3 key = Vec3(-0.6, 0.6, 0.55).normalized();
+  if (direction.dot(key) > std::cos(25.0 * kPi / 180.0)) radiance += Rgb<double>(4.0, 3.6, 3.0);
+  return radiance;
+}
+
+}  // namespace
+
+cv::Mat render_environment_sphere(const BrdfFunction& brdf, int size) {
+  const ShadeFunction shade = [&brdf](const Vec3& l, const Vec3& v) -> Rgb<double> {
+    return l.z() > 0.0 ? Rgb<double>(brdf(l, v) * l.z()) : Rgb<double>::Zero();
+  };
+  const SphereView view = SphereView::centred(size);
+  cv::Mat sum = cv::Mat::zeros(size, size, CV_32FC3);
+  const double golden_angle = kPi * (3.0 - std::sqrt(5.0)), solid_angle = 4.0 * kPi / kEnvironmentLights;
+  for (int k = 0; k < kEnvironmentLights; ++k) {
+    const double z = 1.0 - (2.0 * k + 1.0) / kEnvironmentLights, r = std::sqrt(1.0 - z * z);
+    const Vec3 light(r * std::cos(golden_angle * k), r * std::sin(golden_angle * k), z);
+    if (light.z() < -0.999) continue;  // straight behind: lights no visible pixel
+    const Rgb<double> radiance = environment_radiance(light) * solid_angle;
+    const cv::Mat lit = render_sphere(shade, view, light, cv::Size(size, size));
+    cv::Mat weighted;
+    cv::multiply(lit, cv::Scalar(radiance[0], radiance[1], radiance[2]), weighted);
+    sum += weighted;
+  }
+  return sum;
+}
+
 cv::Mat sphere_mask(int size) { return sphere_pixels(SphereView::centred(size), cv::Size(size, size)); }
 
 cv::Mat half_diff_slice(const BrdfFunction& brdf, int size) {
@@ -131,6 +166,49 @@ double tone_reference(const cv::Mat& linear, const cv::Mat& mask) {
   auto q99 = brightest.begin() + static_cast<std::ptrdiff_t>(std::ceil(0.99 * brightest.size()) - 1);
   std::nth_element(brightest.begin(), q99, brightest.end());
   return *q99 > 0.0f ? *q99 : 1.0;
+}
+
+double quantile(const cv::Mat& values, double q, const cv::Mat& mask) {
+  std::vector<float> finite;
+  for (int y = 0; y < values.rows; ++y)
+    for (int x = 0; x < values.cols; ++x)
+      if ((mask.empty() || mask.at<uint8_t>(y, x)) && std::isfinite(values.at<float>(y, x)))
+        finite.push_back(values.at<float>(y, x));
+  if (finite.empty()) return 0.0;
+  const auto rank = static_cast<std::ptrdiff_t>(
+      std::clamp(std::ceil(q * finite.size()) - 1.0, 0.0, static_cast<double>(finite.size() - 1)));
+  std::nth_element(finite.begin(), finite.begin() + rank, finite.end());
+  return finite[static_cast<size_t>(rank)];
+}
+
+cv::Mat signed_relative_difference(const cv::Mat& fit, const cv::Mat& measured, double floor) {
+  cv::Mat relative(fit.size(), CV_32F);
+  for (int y = 0; y < fit.rows; ++y)
+    for (int x = 0; x < fit.cols; ++x) {
+      const cv::Vec3f &p = fit.at<cv::Vec3f>(y, x), &q = measured.at<cv::Vec3f>(y, x);
+      const double yp = rec709_luminance(Rgb<double>(p[0], p[1], p[2]));
+      const double yq = rec709_luminance(Rgb<double>(q[0], q[1], q[2]));
+      relative.at<float>(y, x) = static_cast<float>((yp - yq) / std::max(yq, floor));  // NaN stays NaN
+    }
+  return relative;
+}
+
+cv::Mat signed_heatmap(const cv::Mat& values, double full_scale, const cv::Mat& mask) {
+  // Display (sRGB) colours, converted to linear light like every other picture.
+  const cv::Vec3f blue(0.13f, 0.4f, 0.85f), white(0.97f, 0.97f, 0.97f), red(0.8f, 0.15f, 0.1f);
+  cv::Mat image(values.size(), CV_32FC3);
+  for (int y = 0; y < values.rows; ++y)
+    for (int x = 0; x < values.cols; ++x) {
+      const float v = values.at<float>(y, x);
+      const float t = std::isnan(v) ? 0.0f : static_cast<float>(std::clamp(v / full_scale, -1.0, 1.0));
+      image.at<cv::Vec3f>(y, x) = t < 0 ? white + (blue - white) * -t : white + (red - white) * t;
+    }
+  srgb_to_linear(image);
+  for (int y = 0; y < values.rows; ++y)
+    for (int x = 0; x < values.cols; ++x)
+      if (std::isnan(values.at<float>(y, x)) || (!mask.empty() && !mask.at<uint8_t>(y, x)))
+        image.at<cv::Vec3f>(y, x) = cv::Vec3f::all(kNoData);
+  return image;
 }
 
 cv::Mat channel_max_difference(const cv::Mat& a, const cv::Mat& b) {

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <memory>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -16,13 +17,21 @@
 #include "brdffit/io.h"
 #include "brdffit/measured.h"
 #include "brdffit/model.h"
+#include "brdffit/sphere.h"
 
 namespace brdffit {
 
 namespace {
 
-// Error heatmaps are full at this fraction of the tone mapping's reference.
-constexpr double kErrorFullScale = 0.25;
+// Signed relative error maps are full (deep blue, deep red) at ±50 %; below this fraction of the
+// tone reference the measured value is floored, so that black pixels do not dominate them.
+constexpr double kRelativeFullScale = 0.5;
+constexpr double kRelativeFloor = 0.05;
+// Slice axes: θh ticks (the columns are √-spaced) and θd ticks, in degrees.
+constexpr double kThetaHTicks[] = {0, 2, 10, 30, 60, 90};
+constexpr double kThetaDTicks[] = {0, 30, 60, 90};
+// Sphere fits: at most this many of the photographs are shown.
+constexpr int kPhotographsShown = 4;
 // Polar plots: the radius is log10 f over this many decades below the top one.
 constexpr int kPolarDecades = 3;
 constexpr int kCurvePoints = 179;  // θo = -89°..89° in 1° steps
@@ -50,18 +59,54 @@ std::string image_tag(const cv::Mat& display, const std::string& alt) {
                      display.cols, display.rows);
 }
 
+// A θh/θd slice (half_diff_slice's layout) with its axes: θh along the bottom, θd down the left.
+std::string slice_with_axes(const cv::Mat& display, const std::string& alt) {
+  const int size = display.cols, axis = 26;
+  std::string left = fmt::format("<svg width=\"{0}\" height=\"{1}\" viewBox=\"0 0 {0} {1}\">", axis, size);
+  for (double t : kThetaDTicks) {
+    const double y = std::clamp(t / 90.0 * size, 0.5, size - 0.5);
+    left += fmt::format(
+        "<line x1=\"{0}\" y1=\"{1:.1f}\" x2=\"{2}\" y2=\"{1:.1f}\" stroke=\"#666\"/>"
+        "<text x=\"{3}\" y=\"{4:.1f}\" font-size=\"8\" text-anchor=\"end\" fill=\"#555\">{5:g}°</text>",
+        axis - 4, y, axis, axis - 5, std::clamp(y + 3, 7.0, size - 1.0), t);
+  }
+  // The axis name between the first two ticks, clear of their labels.
+  left += fmt::format("<text x=\"2\" y=\"{}\" font-size=\"9\" fill=\"#333\">θd</text></svg>", size / 6 + 3);
+  std::string bottom = fmt::format("<svg width=\"{0}\" height=\"20\" viewBox=\"0 0 {0} 20\">", size);
+  for (double t : kThetaHTicks) {
+    // Column x holds θh = u²·90° at u = (x + ½)/size.
+    const double x = std::clamp(std::sqrt(t / 90.0) * size, 0.5, size - 0.5);
+    bottom += fmt::format(
+        "<line x1=\"{0:.1f}\" y1=\"0\" x2=\"{0:.1f}\" y2=\"4\" stroke=\"#666\"/>"
+        "<text x=\"{1:.1f}\" y=\"12\" font-size=\"8\" text-anchor=\"middle\" fill=\"#555\">{2:g}</text>",
+        x, std::clamp(x, 5.0, size - 8.0), t);
+  }
+  bottom += fmt::format(
+      "<text x=\"{}\" y=\"20\" font-size=\"9\" text-anchor=\"middle\" fill=\"#333\">θh °</text></svg>", size / 2);
+  return fmt::format("<div class=\"axes\">{}{}<span></span>{}</div>", left, image_tag(display, alt), bottom);
+}
+
+// A colour bar of the signed relative error, −full to +full.
+std::string signed_colour_bar() {
+  cv::Mat ramp(12, 160, CV_32F);
+  for (int x = 0; x < ramp.cols; ++x) ramp.col(x).setTo(2.0 * (x + 0.5) / ramp.cols - 1.0);
+  return image_tag(signed_heatmap(ramp, 1.0), "signed relative error colour scale");
+}
+
 // One row of pictures: the measured table's or one model's.
 struct Row {
   std::string label;
   const FitResult* fit = nullptr;           // null for the measured row
   double error = NAN;                       // under the ranking metric
   std::string note;                         // why the row has no pictures
-  cv::Mat sphere, slice;                    // linear
+  cv::Mat sphere, environment, slice;       // linear
   std::vector<std::vector<double>> curves;  // luminance of f, one per incidence angle
+  cv::Mat sphere_error, slice_error;        // largest channel's |fit − measured|, models only
 };
 
 void draw_row(Row& row, const BrdfFunction& brdf, const cv::Mat& sphere, const ReportOptions& options) {
   row.sphere = sphere;
+  row.environment = render_environment_sphere(brdf, options.sphere_size);
   row.slice = half_diff_slice(brdf, options.slice_size);
   for (double theta_i : options.incidence_deg) row.curves.push_back(in_plane_curve(brdf, theta_i, kCurvePoints));
 }
@@ -153,6 +198,9 @@ img.slice { image-rendering: pixelated; }
 .meta, .legend { color: #555; font-size: 0.9em; }
 .legend img { display: inline-block; vertical-align: middle; margin: 0 0.4em; }
 .note { background: #fff4ce; padding: 0.4em 0.8em; }
+.axes { display: grid; grid-template-columns: auto auto; align-items: start; }
+.axes svg { display: block; }
+.photographs figure { display: inline-block; margin: 0 0.6em 0.4em 0; font-size: 0.8em; color: #555; }
 #image-check[data-broken]:not([data-broken="0"]) { background: #fdd; padding: 0.4em; }
 )";
 
@@ -207,19 +255,98 @@ std::string comparison_html(const Comparison& c) {
   return out + "</table></div></section>\n";
 }
 
+// A sphere fit's camera and sphere, as its document records them.
+SphereView recorded_sphere_view(const nlohmann::json& sphere) {
+  const Circle outline{sphere.at("center").at(0).get<double>(), sphere.at("center").at(1).get<double>(),
+                       sphere.at("radius").get<double>()};
+  Camera camera;
+  const nlohmann::json& recorded = sphere.at("camera");
+  if (recorded.value("model", "") == "perspective")
+    camera = {recorded.at("focal_px").get<double>(), recorded.at("principal_point").at(0).get<double>(),
+              recorded.at("principal_point").at(1).get<double>()};
+  return SphereView(outline, camera);
+}
+
+Vec3 json_vec3(const nlohmann::json& j, const Vec3& otherwise) {
+  return j.is_array() && j.size() == 3 ? Vec3(j[0].get<double>(), j[1].get<double>(), j[2].get<double>()) : otherwise;
+}
+
+// A sphere fit's photographs (a few, evenly spread over the set), cropped to the sphere, each beside
+// the best model rendered under its light with the document's photometry (pixel = f·cosθi ·
+// intensity · exposure · intensity_scale) and the same tone mapping: what the fits were made from,
+// and how the best one reproduces it. Empty for other documents.
+std::string photographs_html(const FitDocument& document, const MaterialRanking& ranking,
+                             const ReportOptions& options) {
+  const nlohmann::json& doc = document.json;
+  if (!doc.contains("images") || !doc["images"].is_array() || doc["images"].empty() || !doc.contains("sphere"))
+    return "";
+  const nlohmann::json& images = doc["images"];
+  const FitResult* best = nullptr;
+  for (const RankedModel& ranked : ranking.models)
+    if (ranked.ok && !best) best = find_result(document.results, ranked.model);
+  const Model* best_model = best ? find_model(best->model) : nullptr;
+  const double intensity_scale = doc.value("/photometry/intensity_scale"_json_pointer, 1.0);
+
+  std::string out = fmt::format(
+      "<div class=\"photographs\"><p class=\"legend\">Photographs the fits were made from{}, each tone-mapped on "
+      "its own; light direction in the camera frame (x right, y up, z toward the camera):</p>",
+      best_model ? ", beside the best model (" + html(best->model) + ") under the same light on the same scale" : "");
+  const size_t count = images.size(), shown = std::min<size_t>(count, kPhotographsShown);
+  for (size_t k = 0; k < shown; ++k) {
+    const nlohmann::json& image = images[k * count / shown];
+    const std::string path = image.value("path", "");
+    const Vec3 light = json_vec3(image.value("light", nlohmann::json()), Vec3::UnitZ());
+    out += "<figure>";
+    try {
+      const SphereView view = recorded_sphere_view(doc["sphere"]);
+      const Circle& c = view.outline();
+      const cv::Mat photo = read_image(path);
+      const cv::Rect crop = cv::Rect(cvRound(c.x - 1.1 * c.radius), cvRound(c.y - 1.1 * c.radius),
+                                     cvRound(2.2 * c.radius), cvRound(2.2 * c.radius)) &
+                            cv::Rect(0, 0, photo.cols, photo.rows);
+      if (crop.empty()) fail("{}: the sphere is outside the picture", path);
+      const double zoom = static_cast<double>(options.sphere_size) / std::max(crop.width, crop.height);
+      const auto shrink = [&](const cv::Mat& full) {
+        cv::Mat small;
+        cv::resize(full(crop), small, cv::Size(), zoom, zoom, cv::INTER_AREA);
+        return small;
+      };
+      const cv::Mat photo_small = shrink(photo);
+      const double reference = tone_reference(photo_small);
+      out += image_tag(tone_map(photo_small, reference), "photograph " + path);
+      if (best_model) {
+        const Rgb<double> intensity = json_vec3(image.value("intensity", nlohmann::json()), Vec3::Ones());
+        const double gain = image.value("exposure", 1.0) * intensity_scale;
+        cv::Mat rendered = render_sphere(*best_model, best->values, view, light, photo.size(), best->channel_values);
+        cv::multiply(rendered, cv::Scalar(intensity[0] * gain, intensity[1] * gain, intensity[2] * gain), rendered);
+        out += image_tag(tone_map(shrink(rendered), reference), best->model + " under the light of " + path);
+      }
+    } catch (const std::exception& e) {
+      out += fmt::format("<p class=\"failed\">{}</p>", html(e.what()));
+    }
+    out += fmt::format("<figcaption>{} · light ({:.2f}, {:.2f}, {:.2f})</figcaption></figure>",
+                       html(std::filesystem::path(path).filename().string()), light.x(), light.y(), light.z());
+  }
+  return out + fmt::format("<p class=\"meta\">{} of {} photographs shown.</p></div>", shown, count);
+}
+
 std::string material_html(const FitDocument& document, const MaterialRanking& ranking, const ReportOptions& options,
-                          const std::string& bar) {
+                          const std::string& bar, const std::string& signed_bar) {
   std::string notes;
   std::unique_ptr<MeasuredBrdf> table;
-  try {
-    table = open_measured(document.input_path);
-    const nlohmann::json& recorded = document.json["input"]["sha256"];
-    if (recorded.is_string() && recorded.get<std::string>() != sha256_file(document.input_path))
-      notes +=
-          "<p class=\"note\">The table has changed since it was fitted: the pictures show its current contents.</p>";
-  } catch (const Error& e) {
-    notes += fmt::format("<p class=\"note\">No measured pictures: {}</p>", html(e.what()));
-  }
+  const bool from_photographs = document.json.contains("images") && document.json.contains("sphere");
+  if (from_photographs) {
+    notes += "<p class=\"meta\">Fitted from photographs: no measured table to picture; the photographs are below.</p>";
+  } else
+    try {
+      table = open_measured(document.input_path);
+      const nlohmann::json& recorded = document.json["input"]["sha256"];
+      if (recorded.is_string() && recorded.get<std::string>() != sha256_file(document.input_path))
+        notes +=
+            "<p class=\"note\">The table has changed since it was fitted: the pictures show its current contents.</p>";
+    } catch (const Error& e) {
+      notes += fmt::format("<p class=\"note\">No measured pictures: {}</p>", html(e.what()));
+    }
 
   // Rows: the measured table, then the models best first (failed ones only listed).
   std::vector<Row> rows;
@@ -261,6 +388,21 @@ std::string material_html(const FitDocument& document, const MaterialRanking& ra
   const Row* measured = table ? &rows.front() : nullptr;
   const double sphere_reference = pictured_row == rows.end() ? 1.0 : tone_reference(pictured_row->sphere, mask);
   const double slice_reference = pictured_row == rows.end() ? 1.0 : tone_reference(pictured_row->slice);
+  const double environment_reference =
+      pictured_row == rows.end() ? 1.0 : tone_reference(pictured_row->environment, mask);
+  // The absolute error maps share one scale per material, full at the largest 99th percentile
+  // of any model's error: the worst fit's worst pixels saturate, every other shade is readable.
+  double sphere_error_scale = 0.0, slice_error_scale = 0.0;
+  if (measured)
+    for (Row& row : rows) {
+      if (&row == measured || row.sphere.empty()) continue;
+      row.sphere_error = channel_max_difference(row.sphere, measured->sphere);
+      row.slice_error = channel_max_difference(row.slice, measured->slice);
+      sphere_error_scale = std::max(sphere_error_scale, quantile(row.sphere_error, 0.99, mask));
+      slice_error_scale = std::max(slice_error_scale, quantile(row.slice_error, 0.99));
+    }
+  if (!(sphere_error_scale > 0.0)) sphere_error_scale = sphere_reference;
+  if (!(slice_error_scale > 0.0)) slice_error_scale = slice_reference;
   std::vector<const Row*> scale_rows;
   for (const Row& row : rows)
     if (!row.curves.empty() && (!measured || &row == measured)) scale_rows.push_back(&row);
@@ -280,17 +422,29 @@ std::string material_html(const FitDocument& document, const MaterialRanking& ra
   const Vec3& v = options.lighting.view;
   out += fmt::format(
       "<p class=\"legend\">Spheres: light from ({:.2g}, {:.2g}, {:.2g}), seen from ({:.2g}, {:.2g}, {:.2g}); f·cosθi "
-      "tone-mapped with reference {:.4g} ({}). Slices: f at φd = 90°, θh → right (√-spaced), θd ↓, reference "
-      "{:.4g}.<br>"
-      "Errors |fit − measured| (largest channel): spheres 0 {} {:.3g}, slices 0 {} {:.3g}.<br>"
-      "In-plane curves, log10 f over {} decades, light on the left: {}; dashed measured, solid model.</p>",
+      "tone-mapped with reference {:.4g} ({}). Environment: the sphere under a sky with a warm key light from the "
+      "upper left, {} directional lights (reference {:.4g}). Slices: f at φd = 90°, θh → right (√-spaced), θd ↓, "
+      "reference {:.4g}.<br>",
       l.x(), l.y(), l.z(), v.x(), v.y(), v.z(), sphere_reference,
-      measured ? "99th percentile of the measured sphere" : "the best model's, no measured data", slice_reference, bar,
-      kErrorFullScale * sphere_reference, bar, kErrorFullScale * slice_reference, kPolarDecades, incidence);
+      measured ? "99th percentile of the measured sphere" : "the best model's, no measured data", kEnvironmentLights,
+      environment_reference, slice_reference);
+  if (measured)
+    out += fmt::format(
+        "|fit − measured| (largest channel): spheres 0 {} {:.3g}, slices 0 {} {:.3g} (the largest 99th percentile of "
+        "any model's).<br>"
+        "(fit − measured) / measured in luminance (measured floored at {:g} % of the reference): −{:g} % {} +{:g} %: "
+        "blue where the fit is too dark, red where it is too bright.<br>",
+        bar, sphere_error_scale, bar, slice_error_scale, 100 * kRelativeFloor, 100 * kRelativeFullScale, signed_bar,
+        100 * kRelativeFullScale);
+  out +=
+      fmt::format("In-plane curves, log10 f over {} decades, light on the left: {}; dashed measured, solid model.</p>",
+                  kPolarDecades, incidence);
+  out += photographs_html(document, ranking, options);
 
   out +=
-      "<table class=\"pictures\"><tr><th></th><th>sphere</th><th>sphere error</th><th>θh/θd slice</th>"
-      "<th>slice error</th><th>in plane</th><th>parameters</th></tr>";
+      "<div class=\"scroll\"><table class=\"pictures\"><tr><th></th><th>sphere</th><th>environment</th>"
+      "<th>|error|</th><th>relative error</th><th>θh/θd slice</th><th>|error|</th><th>relative error</th>"
+      "<th>in plane</th><th>parameters</th></tr>";
   for (const Row& row : rows) {
     const bool is_measured = &row == measured;
     out += "<tr><th class=\"row\">" + html(row.label);
@@ -299,26 +453,41 @@ std::string material_html(const FitDocument& document, const MaterialRanking& ra
     if (row.fit && row.fit->verdict == Verdict::Poor) out += "<br><span class=\"poor-verdict\">poor fit</span>";
     out += "</th>";
     if (!row.note.empty()) {
-      out += fmt::format("<td colspan=\"6\" class=\"failed\">{}</td></tr>", html(row.note));
+      out += fmt::format("<td colspan=\"9\" class=\"failed\">{}</td></tr>", html(row.note));
       continue;
     }
-    out += "<td>" + image_tag(tone_map(row.sphere, sphere_reference), row.label + " sphere") + "</td><td>";
-    if (measured && !is_measured)
+    const bool compared = measured && !is_measured;
+    out += "<td>" + image_tag(tone_map(row.sphere, sphere_reference), row.label + " sphere") + "</td>";
+    out += "<td>" + image_tag(tone_map(row.environment, environment_reference), row.label + " environment") + "</td>";
+    out += "<td>";
+    if (compared) {
+      out += image_tag(error_heatmap(row.sphere_error, sphere_error_scale, mask), row.label + " sphere error");
+      out += "</td><td>";
       out += image_tag(
-          error_heatmap(channel_max_difference(row.sphere, measured->sphere), kErrorFullScale * sphere_reference, mask),
-          row.label + " sphere error");
-    out += "</td><td>" + image_tag(tone_map(row.slice, slice_reference), row.label + " slice") + "</td><td>";
-    if (measured && !is_measured)
+          signed_heatmap(signed_relative_difference(row.sphere, measured->sphere, kRelativeFloor * sphere_reference),
+                         kRelativeFullScale, mask),
+          row.label + " sphere relative error");
+    } else {
+      out += "</td><td>";
+    }
+    out += "</td><td>" + slice_with_axes(tone_map(row.slice, slice_reference), row.label + " slice") + "</td><td>";
+    if (compared) {
+      out += image_tag(error_heatmap(row.slice_error, slice_error_scale), row.label + " slice error");
+      out += "</td><td>";
       out += image_tag(
-          error_heatmap(channel_max_difference(row.slice, measured->slice), kErrorFullScale * slice_reference),
-          row.label + " slice error");
+          signed_heatmap(signed_relative_difference(row.slice, measured->slice, kRelativeFloor * slice_reference),
+                         kRelativeFullScale),
+          row.label + " slice relative error");
+    } else {
+      out += "</td><td>";
+    }
     out += "</td><td>" + polar_svg(measured, is_measured ? nullptr : &row, scale, options) + "</td>";
     std::string warnings;
     if (row.fit)
       for (const std::string& w : row.fit->warnings) warnings += "<br><span class=\"warning\">⚠ " + html(w) + "</span>";
     out += "<td class=\"params\">" + (row.fit ? parameters_html(*row.fit) : std::string()) + warnings + "</td></tr>";
   }
-  out += "</table>";
+  out += "</table></div>";
   if (!failures.empty()) out += "<p class=\"failed\">Fits that failed:</p><ul class=\"failed\">" + failures + "</ul>";
   return out + "</section>\n";
 }
@@ -344,7 +513,7 @@ std::string report_html(const std::vector<FitDocument>& documents, const ReportO
   ReportOptions options = given;
   if (!options.metric) options.metric = common_metric(documents);
   const Comparison comparison = compare_results(documents, *options.metric);
-  const std::string bar = colour_bar();
+  const std::string bar = colour_bar(), signed_bar = signed_colour_bar();
 
   std::string page = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>brdffit report</title>";
   page += fmt::format("<style>{}</style></head><body>\n", kStyle);
@@ -355,7 +524,7 @@ std::string report_html(const std::vector<FitDocument>& documents, const ReportO
       documents.size(), comparison.models.size(), metric_name(*options.metric), BRDFFIT_VERSION);
   page += comparison_html(comparison);
   for (size_t i = 0; i < documents.size(); ++i) {
-    page += material_html(documents[i], comparison.materials[i], options, bar);
+    page += material_html(documents[i], comparison.materials[i], options, bar, signed_bar);
     if (options.progress) options.progress(i, documents.size(), comparison.materials[i].material);
   }
   page += kImageCheck;

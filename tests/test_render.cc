@@ -107,6 +107,71 @@ TEST(Render, SliceAndCurveAxesAreTheDocumentedAngles) {
   for (int i = 0; i < 19; ++i) EXPECT_NEAR(curve[i], 100.0 - 89.0 + i * 178.0 / 18, 1e-6) << i;
 }
 
+TEST(Render, SignedRelativeErrorAndItsColours) {
+  cv::Mat measured(1, 4, CV_32FC3), fit(1, 4, CV_32FC3);
+  measured.at<cv::Vec3f>(0, 0) = cv::Vec3f::all(0.5f);
+  fit.at<cv::Vec3f>(0, 0) = cv::Vec3f::all(0.6f);  // 20 % too bright
+  measured.at<cv::Vec3f>(0, 1) = cv::Vec3f(1.0f, 0.0f, 0.0f);
+  fit.at<cv::Vec3f>(0, 1) = cv::Vec3f(0.5f, 0.0f, 0.0f);  // half the red: luminance too, −50 %
+  measured.at<cv::Vec3f>(0, 2) = cv::Vec3f::all(0.0f);
+  fit.at<cv::Vec3f>(0, 2) = cv::Vec3f::all(0.01f);  // black measured: divided by the floor 0.1
+  measured.at<cv::Vec3f>(0, 3) = cv::Vec3f::all(NAN);
+  fit.at<cv::Vec3f>(0, 3) = cv::Vec3f::all(0.1f);
+  const cv::Mat relative = signed_relative_difference(fit, measured, 0.1);
+  EXPECT_NEAR(relative.at<float>(0, 0), 0.2, 1e-6);
+  EXPECT_NEAR(relative.at<float>(0, 1), -0.5, 1e-6);
+  EXPECT_NEAR(relative.at<float>(0, 2), 0.1, 1e-6);
+  EXPECT_TRUE(std::isnan(relative.at<float>(0, 3)));
+  // Full scale ±0.5: +0.2 is a light red (red above green and blue), −0.5 full blue, NaN grey.
+  const cv::Mat colours = signed_heatmap(relative, 0.5);
+  const cv::Vec3f light_red = colours.at<cv::Vec3f>(0, 0), blue = colours.at<cv::Vec3f>(0, 1);
+  EXPECT_GT(light_red[0], light_red[1]);
+  EXPECT_NEAR(light_red[1], light_red[2], 0.05);
+  EXPECT_GT(light_red[1], 0.3f);  // not saturated: still pale
+  EXPECT_GT(blue[2], 3 * blue[0]);
+  EXPECT_LT(blue[0], 0.05f);
+  EXPECT_EQ(colours.at<cv::Vec3f>(0, 3)[0], colours.at<cv::Vec3f>(0, 3)[2]);
+  EXPECT_LT(colours.at<cv::Vec3f>(0, 3)[0], 0.05f);
+  // A zero error is white, the same in every channel.
+  const cv::Mat zero = signed_heatmap(cv::Mat(1, 1, CV_32F, cv::Scalar(0.0)), 0.5);
+  EXPECT_GT(zero.at<cv::Vec3f>(0, 0)[1], 0.9f);
+  EXPECT_EQ(zero.at<cv::Vec3f>(0, 0)[0], zero.at<cv::Vec3f>(0, 0)[2]);
+}
+
+TEST(Render, QuantileIsTheNearestRankOfTheFiniteMaskedValues) {
+  cv::Mat values(1, 6, CV_32F);
+  const float v[] = {5, 1, NAN, 3, 2, 100};
+  for (int i = 0; i < 6; ++i) values.at<float>(0, i) = v[i];
+  EXPECT_EQ(quantile(values, 0.5), 3.0);  // of 1 2 3 5 100: the 3rd
+  EXPECT_EQ(quantile(values, 1.0), 100.0);
+  cv::Mat mask(1, 6, CV_8U, cv::Scalar(255));
+  mask.at<uint8_t>(0, 5) = 0;
+  EXPECT_EQ(quantile(values, 1.0, mask), 5.0);
+  EXPECT_EQ(quantile(cv::Mat(1, 1, CV_32F, cv::Scalar(NAN)), 0.5), 0.0);
+}
+
+TEST(Render, EnvironmentSphereOfLambertIsItsIrradiance) {
+  // For Lambert, each pixel is albedo/π times the irradiance at its normal: the same picture for
+  // albedo 0.4 is 0.4x that for albedo 1, the centre (normal toward the camera) is lit, and the
+  // top, facing the bright sky, is brighter than the bottom, facing the dim ground.
+  const Model& lambert = *find_model("lambert");
+  const std::vector<double> white = {1, 1, 1}, grey = {0.4, 0.4, 0.4};
+  const auto brdf_of = [&](const std::vector<double>& values) {
+    return [&lambert, values](const Vec3& l, const Vec3& v) { return *lambert.brdf(values.data(), l, v); };
+  };
+  const cv::Mat a = render_environment_sphere(brdf_of(white), 41), b = render_environment_sphere(brdf_of(grey), 41);
+  EXPECT_NEAR(b.at<cv::Vec3f>(20, 20)[1], 0.4 * a.at<cv::Vec3f>(20, 20)[1], 1e-5);
+  EXPECT_GT(a.at<cv::Vec3f>(20, 20)[1], 0.1f);
+  EXPECT_GT(a.at<cv::Vec3f>(3, 20)[1], 2 * a.at<cv::Vec3f>(37, 20)[1]);
+  EXPECT_EQ(a.at<cv::Vec3f>(0, 0)[1], 0.0f);  // off the sphere
+  // The irradiance at the centre: Σ over the lights in front of radiance·4π/K·cosθ. The sky alone
+  // (no key light) gives at most ∫ 1·cosθ dω = π over the front hemisphere; with the key light
+  // it is between the sky's minimum (0.25π·(1/2)) and the sky's maximum plus the key's.
+  const double irradiance = a.at<cv::Vec3f>(20, 20)[1] * kPi;
+  EXPECT_GT(irradiance, 0.1 * kPi);
+  EXPECT_LT(irradiance, kPi + 3.6 * 0.6);
+}
+
 TEST(Render, ToneMapPutsTheReferenceAtThreeQuartersGreyAndRollsOffToWhite) {
   cv::Mat linear(1, 4, CV_32FC3);
   linear.at<cv::Vec3f>(0, 0) = cv::Vec3f::all(0.5f);  // the reference
@@ -150,6 +215,24 @@ TEST(RenderCli, WritesToneMappedPngAndLinearExr) {
   const cv::Mat side = read_image(dir + "/t.exr");
   EXPECT_GT(side.at<cv::Vec3f>(2, 16)[0], 0.1f);   // the top of the sphere faces the light
   EXPECT_EQ(side.at<cv::Vec3f>(30, 16)[0], 0.0f);  // the bottom is in shadow
+
+  // A fit is tone-mapped with its table's reference by default, so the two pictures compare: the
+  // fit's green albedo 0.4 shows darker than the table's 0.5 (each on its own scale they would
+  // look alike).
+  const auto table_png = test::run_cli("render " + dir + "/table.binary --size 65 --out " + dir + "/t.png");
+  const auto fit_png = test::run_cli("render " + doc + " -m lambert --size 65 --out " + dir + "/f.png");
+  ASSERT_EQ(table_png.exit_code, 0) << table_png.output;
+  ASSERT_EQ(fit_png.exit_code, 0) << fit_png.output;
+  const auto reference_in = [](const std::string& output) {
+    const size_t at = output.find("tone reference ");
+    return at == std::string::npos ? -1.0 : std::stod(output.substr(at + 15));
+  };
+  EXPECT_GT(reference_in(table_png.output), 0.0) << table_png.output;
+  EXPECT_EQ(reference_in(fit_png.output), reference_in(table_png.output)) << fit_png.output;
+  EXPECT_NE(fit_png.output.find("the measured table's"), std::string::npos) << fit_png.output;
+  const float table_green = read_image(dir + "/t.png").at<cv::Vec3f>(32, 32)[1],
+              fit_green = read_image(dir + "/f.png").at<cv::Vec3f>(32, 32)[1];
+  EXPECT_LT(fit_green, 0.9f * table_green);
 
   test::expect_cli_errors(
       {{"render " + doc + " --out " + dir + "/x.png", "choose the model to render with -m (lambert)"},

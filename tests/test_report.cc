@@ -11,6 +11,7 @@
 #include "batch_test_util.h"
 #include "brdffit/image_io.h"
 #include "brdffit/merl.h"
+#include "sphere_scenes.h"
 
 namespace brdffit {
 
@@ -91,9 +92,10 @@ TEST_F(Report, EveryImageIsAnEmbeddedPng) {
   EXPECT_EQ(html.find("src=\"http"), std::string::npos);  // nothing from elsewhere
   EXPECT_EQ(html.find("href=\"http"), std::string::npos);
   const std::vector<std::string> sources = image_sources(html);
-  // Per table: measured sphere and slice, and per model sphere, slice and both errors; per CSV
-  // material (no measured pictures): each model's sphere and slice; per material two colour bars.
-  EXPECT_EQ(sources.size(), 2 * (2 + 3 * 4) + 3 * 2 + 3 * 2);
+  // Per table: the measured sphere, environment sphere and slice, and per model those three and
+  // the absolute and signed relative error of sphere and slice; per CSV material (no measured
+  // pictures): each model's three; per table three colour bars (|error| twice, relative once).
+  EXPECT_EQ(sources.size(), 2 * (3 + 3 * 7) + 3 * 3 + 2 * 3);
   for (const std::string& source : sources) {
     const cv::Mat image = decode_png_data_uri(source);
     ASSERT_FALSE(image.empty()) << source.substr(0, 80);
@@ -105,14 +107,20 @@ TEST_F(Report, EveryImageIsAnEmbeddedPng) {
     EXPECT_NE(html.find(std::string("id=\"m-") + material + "\""), std::string::npos) << material;
   EXPECT_NE(html.find("No measured pictures:"), std::string::npos);
   EXPECT_NE(html.find("samples.csv: a CSV of samples is not a table"), std::string::npos);
-  size_t plots = 0;
-  for (size_t at = html.find("<svg"); at != std::string::npos; at = html.find("<svg", at + 1)) ++plots;
-  EXPECT_EQ(plots, 2u * 4 + 3);
+  // A polar plot and a slice with axes per row.
+  const auto count = [&html](const std::string& what) {
+    size_t n = 0;
+    for (size_t at = html.find(what); at != std::string::npos; at = html.find(what, at + 1)) ++n;
+    return n;
+  };
+  EXPECT_EQ(count("class=\"polar\""), 2u * 4 + 3);
+  EXPECT_EQ(count("<div class=\"axes\">"), 2u * 4 + 3);
+  EXPECT_EQ(count(">θh °</text>"), 2u * 4 + 3);
 }
 
-// The picture with this alt text in the section of this material.
+// The picture with this alt text in the section of this material (anywhere for "").
 cv::Mat picture(const std::string& html, const std::string& material, const std::string& alt) {
-  const size_t section = html.find("id=\"m-" + material + "\"");
+  const size_t section = material.empty() ? 0 : html.find("id=\"m-" + material + "\"");
   if (section == std::string::npos) return cv::Mat();
   for (const ImageTag& tag : image_tags(html, section))
     if (tag.alt == alt) return decode_png_data_uri(tag.src);
@@ -131,6 +139,84 @@ TEST_F(Report, TheMeasuredSphereAndTheBestFitLookAlike) {
                 fitted_slice = picture(html, "plastic", "1. ggx slice");
   ASSERT_FALSE(fitted_slice.empty());
   EXPECT_LT(cv::norm(measured_slice, fitted_slice, cv::NORM_L1) / cv::norm(measured_slice, cv::NORM_L1), 0.03);
+}
+
+TEST_F(Report, EnvironmentSpheresMatchAndErrorMapsDoNotSaturate) {
+  const std::string html = page();
+  const cv::Mat measured = picture(html, "plastic", "measured environment"),
+                fitted = picture(html, "plastic", "1. ggx environment");
+  ASSERT_FALSE(measured.empty());
+  ASSERT_FALSE(fitted.empty());
+  EXPECT_LT(cv::norm(measured, fitted, cv::NORM_L1) / cv::norm(measured, cv::NORM_L1), 0.03);
+  // The |error| scale is the largest 99th percentile of any model's error: at most 1 % of the
+  // worst model's sphere pixels reach the colour map's top, and fewer of the best model's.
+  // (Inferno's top is pale yellow: red and green above 240 in the PNG, BGR order.)
+  const auto saturated_fraction = [](const cv::Mat& bgr) {
+    int saturated = 0, sphere = 0;
+    for (int y = 0; y < bgr.rows; ++y)
+      for (int x = 0; x < bgr.cols; ++x) {
+        const cv::Vec3b p = bgr.at<cv::Vec3b>(y, x);
+        if (p[0] == p[1] && p[1] == p[2]) continue;  // the grey outside the sphere
+        ++sphere;
+        saturated += p[2] > 240 && p[1] > 240;
+      }
+    return sphere ? static_cast<double>(saturated) / sphere : 1.0;
+  };
+  for (const char* row : {"1. ggx", "2. ward", "3. lambert"}) {
+    const cv::Mat error = picture(html, "plastic", std::string(row) + " sphere error");
+    ASSERT_FALSE(error.empty()) << row;
+    EXPECT_LE(saturated_fraction(error), 0.012) << row;
+  }
+  // The signed relative error of the exact fit is near zero: nearly white (within ±5 % of the
+  // measured value shows as codes above 235 in every channel) on most of the sphere.
+  const cv::Mat relative = picture(html, "plastic", "1. ggx sphere relative error");
+  ASSERT_FALSE(relative.empty());
+  int white = 0, sphere = 0;
+  for (int y = 0; y < relative.rows; ++y)
+    for (int x = 0; x < relative.cols; ++x) {
+      const cv::Vec3b p = relative.at<cv::Vec3b>(y, x);
+      if (p[0] < 60 && p[1] < 60 && p[2] < 60) continue;  // off the sphere
+      ++sphere;
+      white += p[0] > 235 && p[1] > 235 && p[2] > 235;
+    }
+  EXPECT_GT(white, 0.9 * sphere);
+}
+
+TEST(SphereReport, ShowsThePhotographsBesideTheBestFitUnderTheSameLight) {
+  // Photographs of a GGX sphere under four lights of different intensities, fitted; the report
+  // shows four photographs, each beside GGX rendered with the document's light, intensity and
+  // camera: the two pictures agree (a flipped axis, a wrong light or a missed intensity would not).
+  const std::string dir = test::fresh_dir("sphere-report");
+  const Model& ggx = *find_model("ggx");
+  test::SceneOptions options;
+  options.intensities = {Rgb<double>(1, 1, 1), Rgb<double>(2, 1.5, 1), Rgb<double>(0.5, 0.5, 0.8),
+                         Rgb<double>(1.2, 1, 1)};
+  options.noise_floor = 0.0;  // the black background, amplified by the sRGB curve, would dominate the norm
+  const test::SphereScene scene =
+      test::write_sphere_scene(dir, "p", ggx, parameter_values(ggx, {"albedo=0.5,0.35,0.2", "roughness=0.3"}),
+                               {Vec3(-0.4, 0.3, 0.87).normalized(), Vec3(0.5, 0.2, 0.84).normalized(),
+                                Vec3(0.1, -0.5, 0.86).normalized(), Vec3(0, 0, 1)},
+                               options);
+  std::string images;
+  for (const std::string& path : scene.images) images += " " + path;
+  const auto fit = test::run_cli("sphere" + images + " --lights " + scene.lights + " --intensities " +
+                                 scene.intensities + " --mask " + scene.mask + " -m ggx,lambert -o " + dir + "/r.json");
+  ASSERT_EQ(fit.exit_code, 0) << fit.output;
+  const auto report = test::run_cli("report " + dir + "/r.json --size 96 -o " + dir + "/report.html");
+  ASSERT_EQ(report.exit_code, 0) << report.output;
+  const std::string html = read_file(dir + "/report.html");
+  EXPECT_NE(html.find("Fitted from photographs"), std::string::npos);
+  EXPECT_EQ(html.find("No measured pictures"), std::string::npos);
+  EXPECT_NE(html.find("4 of 4 photographs shown"), std::string::npos);
+  for (const std::string& path : scene.images) {
+    SCOPED_TRACE(path);
+    const cv::Mat photo = picture(html, "", "photograph " + path);
+    const cv::Mat model = picture(html, "", "ggx under the light of " + path);
+    ASSERT_FALSE(photo.empty());
+    ASSERT_FALSE(model.empty());
+    EXPECT_EQ(photo.size(), model.size());
+    EXPECT_LT(cv::norm(photo, model, cv::NORM_L1) / cv::norm(photo, cv::NORM_L1), 0.05);
+  }
 }
 
 std::string find_chromium() {

@@ -47,6 +47,15 @@ cv::Mat render_fitted_sphere(const Model& model, const FitResult& fit, const Sph
 // 255 on the pixels of that picture that show the sphere, 0 elsewhere (CV_8U).
 cv::Mat sphere_mask(int size);
 
+// The same sphere lit by an environment instead of one light: a sky brighter overhead than at the
+// horizon, a warm key light from the upper left and a dim ground, stood in for by
+// kEnvironmentLights directional lights spread evenly over every direction (a Fibonacci
+// lattice), each carrying its share of the environment's radiance. Shows a material the way a
+// renderer's scene would, for measured table and fits alike: f is only ever looked up, so a
+// table and a model are rendered by the same sum.
+constexpr int kEnvironmentLights = 256;
+cv::Mat render_environment_sphere(const BrdfFunction& brdf, int size);
+
 // f over the half/difference plane at φd = 90° (the MERL slice): column x is θh from 0 to 90°
 // spaced like MERL's bins (θh ∝ u², u = (x+½)/size, so the specular peak gets room), row y is
 // θd from 0 (top) to 90°. At φd = 90° both directions stay above the horizon (n·l = n·v =
@@ -67,6 +76,18 @@ cv::Mat tone_map(const cv::Mat& linear, double reference);
 // The 99th percentile of the brightest channel over the pixels where mask is non-zero (every
 // finite pixel when the mask is empty); 1 when that is not positive.
 double tone_reference(const cv::Mat& linear, const cv::Mat& mask = cv::Mat());
+
+// The q-quantile (0..1, nearest rank) of the finite values of a CV_32F image where mask is
+// non-zero (every pixel when the mask is empty); 0 when there are none.
+double quantile(const cv::Mat& values, double q, const cv::Mat& mask = cv::Mat());
+
+// The signed relative error of `fit` against `measured` in luminance, (Y_fit − Y_measured) /
+// max(Y_measured, floor) (CV_32F): positive where the fit is too bright. The floor keeps the
+// nearly black pixels from dominating; NaN where either is NaN.
+cv::Mat signed_relative_difference(const cv::Mat& fit, const cv::Mat& measured, double floor);
+// A diverging map of signed values: blue where negative, white at 0, red where positive, full
+// at ±full_scale; dark grey where mask is zero or the value is NaN.
+cv::Mat signed_heatmap(const cv::Mat& values, double full_scale, const cv::Mat& mask = cv::Mat());
 
 // The largest channel's |a - b| (CV_32F), NaN where either is NaN.
 cv::Mat channel_max_difference(const cv::Mat& a, const cv::Mat& b);

@@ -1,12 +1,17 @@
 // One self-contained HTML page about a set of fitted materials, to read offline: the comparison
-// of models (compare.h), and per material the measured sphere and θh/θd slice beside each
-// model's, error heatmaps, and in-plane curves on polar plots. Images are PNG data URIs, plots
-// inline SVG; nothing is loaded from elsewhere. The library side of `brdffit report`.
+// of models (compare.h), and per material the measured pictures beside each model's: a sphere
+// under a light and under an environment, the θh/θd slice with its axes, the error of sphere and
+// slice both absolute and signed relative, and in-plane curves on polar plots. A sphere fit's
+// section shows a few of its photographs, each beside the best model under the same light.
+// Images are PNG data URIs, plots inline SVG; nothing is loaded from elsewhere. The library side
+// of `brdffit report`.
 //
 // Every picture of a material shares one tone mapping (render.h's tone_map, its reference the
 // 99th percentile of the measured picture, or of the best model's when the table cannot be read),
-// so brightness differences between measured and fitted pictures are real. Error heatmaps show
-// the largest channel's |fit - measured|, full colour at a quarter of that reference.
+// so brightness differences between measured and fitted pictures are real. The absolute error
+// maps show the largest channel's |fit − measured|, full colour at the largest 99th percentile of
+// any model's error on that material; the relative ones (fit − measured)/measured in luminance,
+// full blue or red at ±50 %.
 // The page marks images that fail to load in #image-check (data-total, data-broken) once loaded.
 #pragma once
 
