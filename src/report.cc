@@ -195,6 +195,7 @@ td.num { text-align: right; font-variant-numeric: tabular-nums; }
 .pictures img { display: block; background: #000; }
 img.slice { image-rendering: pixelated; }
 .params { font-size: 0.8em; color: #555; }
+.pictures td.params { min-width: 22em; }
 .meta, .legend { color: #555; font-size: 0.9em; }
 .legend img { display: inline-block; vertical-align: middle; margin: 0 0.4em; }
 .note { background: #fff4ce; padding: 0.4em 0.8em; }

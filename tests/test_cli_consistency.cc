@@ -8,6 +8,7 @@
 
 #include "brdffit/csv_samples.h"
 #include "brdffit/io.h"
+#include "brdffit/metric.h"
 #include "brdffit/model.h"
 #include "test_util.h"
 
@@ -102,6 +103,25 @@ TEST(CliConsistency, JsonOnStdoutIsTheDocumentOutWrites) {
   EXPECT_EQ(comparison["materials"][0]["models"][0]["rank"], 1);
   EXPECT_EQ(comparison["models"][0]["wins"], 1);
   fs::remove_all(dir);
+}
+
+// The README documents what the command line does: its metric list is what --metric accepts, it
+// opens with the two commands, and it names nothing outside the repository.
+TEST(CliConsistency, ReadmeMatchesTheCommandLine) {
+  const std::string readme = read_file(std::string(BRDFFIT_SOURCE_DIR) + "/README.md");
+  EXPECT_EQ(readme.rfind("# brdffit\n\n```sh\nbash scripts/demo.sh", 0), 0u);
+  const size_t metrics = readme.find("**Error metrics.**");
+  ASSERT_NE(metrics, std::string::npos);
+  const std::string paragraph = readme.substr(metrics, readme.find("\n\n", metrics) - metrics);
+  for (Metric metric : {Metric::Cosine, Metric::Log, Metric::Relative, Metric::L2}) {
+    EXPECT_NE(paragraph.find(std::string("`") + metric_name(metric) + "` ("), std::string::npos) << metric_name(metric);
+    EXPECT_TRUE(parse_metric(metric_name(metric)));
+  }
+  EXPECT_FALSE(parse_metric("max"));  // reported, not minimised: the README says so
+  EXPECT_NE(paragraph.find("`max`"), std::string::npos);
+  const test::CommandResult help = test::run_cli("help fit");
+  EXPECT_NE(help.output.find("cosine, log, relative, l2"), std::string::npos) << help.output;
+  for (const char* outside : {"../shared", "seed 0"}) EXPECT_EQ(readme.find(outside), std::string::npos) << outside;
 }
 
 }  // namespace
