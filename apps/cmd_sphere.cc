@@ -222,16 +222,25 @@ void add_sphere_commands(CLI::App& app) {
   CLI::Option* gamma = sphere->add_option(
       "--gamma", args->gamma, "Decode every image as value^GAMMA, or 'srgb' (default: 8-bit sRGB, deeper linear)");
   sphere->add_flag("--linear", args->linear, "Every image is linear, 8-bit ones too")->excludes(gamma);
-  add_models_option(sphere, args->models, "Comma-separated models, or 'all'");
+  add_models_option(sphere, args->models,
+                    "Comma-separated models, or 'all' (default: five that span diffuse to glossy; fit and batch "
+                    "take all, a photograph set rarely pins down the many-parameter ones)");
   sphere->add_option("--metric", args->metric, "What to minimise: cosine, log, relative, l2");
-  sphere->add_option("--loss", args->loss, "Robust loss per sample: none, huber, cauchy");
+  sphere->add_option("--loss", args->loss,
+                     "Robust loss per sample: none, huber, cauchy (default huber, unlike fit and batch: photographs "
+                     "hold outliers a table does not, e.g. interreflections, dust, a misjudged edge)");
   sphere
-      ->add_option("--max-samples", args->max_samples, "Fit a deterministic random subset of this many pixels (0: all)")
+      ->add_option("--max-samples", args->max_samples,
+                   "Fit a deterministic random subset of this many pixels (0: all; default 200000, unlike fit and "
+                   "batch: photographs hold millions of pixels, mostly repeating the same angles)")
       ->check(kCountRange);
   sphere->add_option("--seed", args->seed, "Seed of the subset")->check(kSeedRange);
   sphere->add_option("--threads", args->threads, "Threads (0: every core)")->check(kThreadsRange);
   args->converge.add_to(sphere);
-  sphere->add_option("--max-angle", args->rules.max_angle_deg, "Leave out pixels with θi or θo above this (degrees)")
+  sphere
+      ->add_option("--max-angle", args->rules.max_angle_deg,
+                   "Leave out pixels with θi or θo above this (degrees; default 80, unlike fit and batch: a sphere's "
+                   "rim has unreliable normals and blurred pixels)")
       ->check(CLI::Range(1.0, 90.0));
   sphere
       ->add_option("--saturation", args->rules.saturation,

@@ -48,6 +48,14 @@ TEST(CliConsistency, HelpShowsACommandsOptionsWithTheirDefaults) {
   const auto sphere = test::run_cli("help sphere");
   ASSERT_EQ(sphere.exit_code, 0) << sphere.output;
   EXPECT_NE(sphere.output.find("--chrome"), std::string::npos) << sphere.output;
+  // Where sphere's defaults differ from fit's and batch's, its help says why.
+  for (const char* option : {"--loss TEXT=huber", "--max-samples", "--max-angle"}) {
+    const size_t at = sphere.output.find(option);
+    ASSERT_NE(at, std::string::npos) << option;
+    EXPECT_NE(sphere.output.substr(at, sphere.output.find("\n  -", at + 1) - at).find("unlike fit and batch"),
+              std::string::npos)
+        << option;
+  }
   const auto unknown = test::run_cli("help nope");
   EXPECT_EQ(unknown.exit_code, 1);
   EXPECT_NE(unknown.output.find("brdffit: error: help: no command 'nope'"), std::string::npos) << unknown.output;
