@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "brdffit/error.h"
+#include "brdffit/parallel.h"
 #include "brdffit/result_json.h"
 
 namespace brdffit {
@@ -143,7 +144,9 @@ std::vector<MaterialOutcome> MpiBatch::run(const std::vector<BatchMaterial>& mat
     // it shared the node; OMPI_COMM_WORLD_LOCAL_SIZE counts the ranks on this node).
     const char* local = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
     const int ranks_here = std::max(1, (local ? std::atoi(local) : size_) - 1);
-    one.fit.threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()) / ranks_here);
+    // A rank bound to fewer cores (mpirun binds to a core by default up to two ranks) has only those.
+    one.fit.threads =
+        std::min(available_cores(), std::max(1, static_cast<int>(std::thread::hardware_concurrency()) / ranks_here));
   }
   std::string report;
   for (;;) {

@@ -76,6 +76,28 @@ TEST(SharedLogic, BatchPlanSharesTheCoresAmongTheJobs) {
   EXPECT_EQ(plan_batch(options, 10).threads, 3);
 }
 
+TEST(SharedLogic, ThreadsDefaultToTheCoresThisProcessMayUse) {
+  // A scheduler's cpuset or mpirun's binding narrows the affinity: "every core" means those.
+  cpu_set_t saved;
+  ASSERT_EQ(sched_getaffinity(0, sizeof(saved), &saved), 0);
+  EXPECT_EQ(available_cores(), CPU_COUNT(&saved));
+  EXPECT_EQ(thread_count(0), CPU_COUNT(&saved));
+  EXPECT_EQ(thread_count(5), 5);
+  cpu_set_t one;
+  CPU_ZERO(&one);
+  for (int cpu = 0; cpu < CPU_SETSIZE; ++cpu)
+    if (CPU_ISSET(cpu, &saved)) {
+      CPU_SET(cpu, &one);
+      break;
+    }
+  ASSERT_EQ(sched_setaffinity(0, sizeof(one), &one), 0);  // this thread only
+  EXPECT_EQ(thread_count(0), 1);
+  BatchOptions options;
+  options.jobs = 2;
+  EXPECT_EQ(plan_batch(options, 10).threads, 1);
+  ASSERT_EQ(sched_setaffinity(0, sizeof(saved), &saved), 0);
+}
+
 TEST(SharedLogic, OutcomeCounts) {
   std::vector<MaterialOutcome> outcomes(5);
   outcomes[0].status = MaterialStatus::Ok;

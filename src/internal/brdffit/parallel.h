@@ -1,17 +1,28 @@
 // A minimal parallel loop for independent work items (grid points, chunks of samples).
 #pragma once
 
+#ifdef __linux__
+#include <sched.h>
+#endif
+
 #include <algorithm>
 #include <thread>
 #include <vector>
 
 namespace brdffit {
 
-// The number of worker threads to use for a request of `requested` (0: every core).
-inline int thread_count(int requested) {
-  if (requested > 0) return requested;
-  return std::max(1u, std::thread::hardware_concurrency());
+// The cores this process may run on: its CPU affinity, which a scheduler's cpuset (Slurm, a
+// container's limit, taskset, mpirun's binding) narrows; every core of the machine otherwise.
+inline int available_cores() {
+#ifdef __linux__
+  cpu_set_t allowed;
+  if (sched_getaffinity(0, sizeof(allowed), &allowed) == 0 && CPU_COUNT(&allowed) > 0) return CPU_COUNT(&allowed);
+#endif
+  return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 }
+
+// The number of worker threads to use for a request of `requested` (0: every available core).
+inline int thread_count(int requested) { return requested > 0 ? requested : available_cores(); }
 
 // Calls body(i) for i in [0, n) on up to `threads` threads; items are interleaved so that
 // uneven items spread across threads. body must not throw.
