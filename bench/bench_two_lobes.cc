@@ -1,8 +1,8 @@
 // Two lobes against one: fits FIRST and FIRST+SECOND to each table and prints both errors and
-// the seconds per fit. The two-lobe fit is run twice: from the composite's defaults (what
-// `brdffit fit --models ggx+ggx` does while the fitter does not yet use nestings) and from
-// the one-lobe optimum embedded by the composite's exact nesting, whose error is never above
-// the one-lobe error.
+// the seconds per fit. The two-lobe fit is run twice: from the composite's defaults (fit_model
+// alone) and from the one-lobe optimum embedded by the composite's exact nesting, whose error is
+// never above the one-lobe error. `brdffit fit --models ggx+ggx` (fit_models) does both and
+// keeps the better.
 //
 //   bench_two_lobes TABLE... [--pair ggx+ggx] [--threads 1]
 #include <CLI/CLI.hpp>
