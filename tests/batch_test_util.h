@@ -1,5 +1,5 @@
-// Helpers for the batch, compare, render, report and export tests: scratch folders, sample files
-// from a known model, and result documents with known numbers.
+// Helpers for the batch, compare, render, report and export tests: sample files from a known
+// model, and result documents with known numbers.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -22,29 +22,6 @@
 namespace brdffit::test {
 
 namespace fs = std::filesystem;
-
-// This process's scratch folder, removed when the test program ends.
-inline fs::path batch_scratch_root() {
-  return fs::temp_directory_path() / ("brdffit-batch-tests-" + std::to_string(::getpid()));
-}
-
-class BatchScratchCleanup : public ::testing::Environment {
- public:
-  void TearDown() override {
-    std::error_code ignored;
-    fs::remove_all(batch_scratch_root(), ignored);
-  }
-};
-inline ::testing::Environment* const kBatchScratchCleanup =
-    ::testing::AddGlobalTestEnvironment(new BatchScratchCleanup);
-
-// An empty folder for one test.
-inline std::string fresh_dir(const std::string& name) {
-  const fs::path dir = batch_scratch_root() / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir.string();
-}
 
 // A CSV of `count` samples of a model at the given parameters (random directions, seeded).
 inline std::string write_model_csv(const std::string& path, const std::string& model_name,

@@ -1,5 +1,5 @@
 // Helpers for the measured-input tests (test_merl, test_rgl, test_csv, test_tables_cli):
-// scratch files under the build tree, the shared data, and checking error messages.
+// scratch files, the shared data, and checking error messages.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -33,22 +33,10 @@ inline std::string test_data_dir() {
   return dir;
 }
 
-// Removes this process's scratch directory when the test program ends.
-class ScratchCleanup : public ::testing::Environment {
- public:
-  static fs::path directory() { return fs::path(test_data_dir()) / ("run-" + std::to_string(::getpid())); }
-  void TearDown() override {
-    std::error_code ignored;
-    fs::remove_all(directory(), ignored);
-  }
-};
-inline ::testing::Environment* const kScratchCleanup = ::testing::AddGlobalTestEnvironment(new ScratchCleanup);
-
-// A path for a scratch file of this test process (one directory per process, so test runs in
-// parallel do not collide).
+// A path for a scratch file of this test process, in its scratch folder (test_util.h).
 inline std::string scratch_path(const std::string& name) {
-  fs::create_directories(ScratchCleanup::directory());
-  return (ScratchCleanup::directory() / name).string();
+  fs::create_directories(scratch_root());
+  return (scratch_root() / name).string();
 }
 
 // The shared MERL-format proxy `name` (e.g. "gold-metallic-paint") decompressed into the test

@@ -19,13 +19,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string capture_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("brdffit-capture-" + std::to_string(::getpid())) / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir.string();
-}
-
 // A scene spanning three decades of radiance left to right, tinted, dimmer towards the top.
 cv::Mat scene_radiance() {
   cv::Mat radiance(48, 96, CV_32FC3);
@@ -51,7 +44,7 @@ void write_exposures(const std::string& dir, const cv::Mat& radiance, const std:
 }
 
 TEST(Capture, OneExposureIsDecodedFromSrgb) {
-  const std::string dir = capture_dir("single");
+  const std::string dir = test::fresh_dir("capture-single");
   cv::Mat grey(8, 8, CV_32FC3, cv::Scalar::all(0.2));
   grey.at<cv::Vec3f>(0, 0) = cv::Vec3f(0.5f, 0.05f, 1.0f);
   write_image(dir + "/frame_00.png", grey, Encoding::Srgb8);
@@ -66,7 +59,7 @@ TEST(Capture, OneExposureIsDecodedFromSrgb) {
 }
 
 TEST(Capture, SeveralExposuresMergeIntoRadianceProportionalToTheScene) {
-  const std::string dir = capture_dir("bracket");
+  const std::string dir = test::fresh_dir("capture-bracket");
   const cv::Mat radiance = scene_radiance();
   const std::vector<double> times = {1.0 / 64, 1.0 / 16, 1.0 / 4, 1.0, 4.0, 16.0, 64.0};
   write_exposures(dir, radiance, times);
@@ -89,7 +82,7 @@ TEST(Capture, SeveralExposuresMergeIntoRadianceProportionalToTheScene) {
 }
 
 TEST(CaptureCli, WritesTheMergedExrAndTheResponse) {
-  const std::string dir = capture_dir("cli");
+  const std::string dir = test::fresh_dir("capture-cli");
   write_exposures(dir, scene_radiance(), {0.05, 0.5, 5.0});
   const auto r = test::run_cli("capture " + dir + "/frame_%02d.png --exposures 0.05,0.5,5 --out " + dir +
                                "/merged.exr --response " + dir + "/response.csv");
@@ -106,7 +99,7 @@ TEST(CaptureCli, WritesTheMergedExrAndTheResponse) {
 }
 
 TEST(CaptureCli, BadSourcesAreClearErrors) {
-  const std::string dir = capture_dir("bad");
+  const std::string dir = test::fresh_dir("capture-bad");
   write_exposures(dir, scene_radiance(), {0.5, 5.0});
   test::expect_cli_errors(
       {{"capture " + dir + "/nothing_%02d.png --out " + dir + "/x.exr", "nothing_%02d.png: cannot open"},

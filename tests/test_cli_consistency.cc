@@ -27,14 +27,6 @@ std::string ward_table(const std::string& dir) {
   return path;
 }
 
-std::string fresh_dir(const std::string& name) {
-  const std::string dir =
-      (fs::temp_directory_path() / ("brdffit-cli-" + name + "-" + std::to_string(::getpid()))).string();
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
 TEST(CliConsistency, HelpShowsACommandsOptionsWithTheirDefaults) {
   const auto fit = test::run_cli("help fit");
   ASSERT_EQ(fit.exit_code, 0) << fit.output;
@@ -70,7 +62,7 @@ TEST(CliConsistency, ParseErrorsCarryTheSamePrefixAsEveryOtherError) {
 }
 
 TEST(CliConsistency, OldSpellingsWorkWithANote) {
-  const std::string dir = fresh_dir("old"), data = ward_table(dir);
+  const std::string dir = test::fresh_dir("cli-old"), data = ward_table(dir);
   const std::string directions = " --light 0.3,0,1 --view -0.3,0,1";
   const auto now = test::run_cli("eval -m ggx" + directions);
   const auto positional = test::run_cli("eval ggx" + directions);
@@ -91,7 +83,7 @@ TEST(CliConsistency, OldSpellingsWorkWithANote) {
 }
 
 TEST(CliConsistency, JsonOnStdoutIsTheDocumentOutWrites) {
-  const std::string dir = fresh_dir("json"), data = ward_table(dir);
+  const std::string dir = test::fresh_dir("cli-json"), data = ward_table(dir);
   const auto fit = test::run_cli("fit " + data + " -m ward,lambert --threads 1 --json -o " + dir + "/r.json");
   ASSERT_EQ(fit.exit_code, 0) << fit.output;
   const nlohmann::json printed = nlohmann::json::parse(fit.output);  // nothing else on stdout or stderr

@@ -21,9 +21,7 @@ namespace fs = std::filesystem;
 class Compressed : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = (fs::temp_directory_path() / ("brdffit-compressed-" + std::to_string(::getpid()))).string();
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = test::fresh_dir("compressed");
     table_ = dir_ + "/paint.binary";
     // A Lambert table of albedo (0.5, 0.25, 0.125): f = albedo/π.
     write_merl(table_, [](const Vec3&, const Vec3&) -> Rgb<double> { return Rgb<double>(0.5, 0.25, 0.125) / kPi; });

@@ -16,12 +16,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string temp_dir() {
-  const fs::path dir = fs::temp_directory_path() / ("brdffit-fit-cli-" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir.string();
-}
-
 // A CSV of Ward samples at known parameters.
 std::string ward_csv(const std::string& dir) {
   const Model& ward = *find_model("ward");
@@ -38,7 +32,7 @@ std::string ward_csv(const std::string& dir) {
 }
 
 TEST(FitCli, WritesTheResultDocumentAndCsv) {
-  const std::string dir = temp_dir(), data = ward_csv(dir);
+  const std::string dir = test::fresh_dir("fit-cli"), data = ward_csv(dir);
   const auto r =
       test::run_cli("fit " + data + " --models ward,lambert --out " + dir + "/r.json --csv " + dir + "/r.csv");
   ASSERT_EQ(r.exit_code, 0) << r.output;
@@ -95,7 +89,7 @@ TEST(FitCli, WritesTheResultDocumentAndCsv) {
 }
 
 TEST(FitCli, BadInputExitsNonZeroWithAClearMessageAndWritesNothing) {
-  const std::string dir = temp_dir(), data = ward_csv(dir);
+  const std::string dir = test::fresh_dir("fit-cli"), data = ward_csv(dir);
   write_file_atomic(dir + "/empty.csv", "lx,ly,lz,vx,vy,vz,r,g,b\n");
   const std::string out = dir + "/never.json";
   const std::vector<std::pair<std::string, std::string>> cases = {

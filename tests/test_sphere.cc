@@ -20,12 +20,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string temp_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("brdffit-sphere-" + std::to_string(::getpid())) / name;
-  fs::create_directories(dir);
-  return dir.string();
-}
-
 // Expects `body` to throw an Error whose message contains every one of `parts`.
 template <class Body>
 void expect_error(Body&& body, const std::vector<std::string>& parts) {
@@ -53,7 +47,7 @@ std::vector<double> ggx_truth() {
 // Image files
 
 TEST(ImageIo, RoundTripsEveryEncoding) {
-  const std::string dir = temp_dir("io");
+  const std::string dir = test::fresh_dir("sphere-io");
   cv::Mat ramp(8, 64, CV_32FC3);
   for (int x = 0; x < ramp.cols; ++x)
     for (int y = 0; y < ramp.rows; ++y) ramp.at<cv::Vec3f>(y, x) = cv::Vec3f(x / 63.0f, 0.5f * x / 63.0f, 0.25f);
@@ -87,7 +81,7 @@ TEST(ImageIo, RoundTripsEveryEncoding) {
 }
 
 TEST(ImageIo, BadFilesAreClearErrors) {
-  const std::string dir = temp_dir("io-bad");
+  const std::string dir = test::fresh_dir("sphere-io-bad");
   expect_error([&] { read_image(dir + "/missing.png"); }, {"missing.png", "no such file"});
   write_file_atomic(dir + "/text.png", "not an image");
   expect_error([&] { read_image(dir + "/text.png"); }, {"text.png", "cannot read image"});
@@ -135,7 +129,7 @@ TEST(SphereGeometry, OrthographicAndPerspectiveNormals) {
 }
 
 TEST(SphereGeometry, NormalMapCheckMeasuresHowFarTheSphereIsOff) {
-  const std::string dir = temp_dir("normals");
+  const std::string dir = test::fresh_dir("sphere-normals");
   const SphereView truth(Circle{40.3, 35.7, 25.2}, Camera{});
   cv::Mat encoded(72, 80, CV_32FC3, cv::Scalar::all(0.0));  // background: zeros, no normal
   for (int y = 0; y < encoded.rows; ++y)
@@ -187,7 +181,7 @@ TEST(SphereGeometry, PixelRulesInOrder) {
 // Locating the sphere
 
 TEST(SphereLocation, MaskAndDetectionFindTheRenderedSphere) {
-  const std::string dir = temp_dir("locate");
+  const std::string dir = test::fresh_dir("sphere-locate");
   const test::SphereScene scene = test::write_sphere_scene(dir, "s", ggx(), ggx_truth(), test::dome_lights(6));
   const Circle truth = scene.outline;
   const Circle from_mask = circle_from_mask(read_mask(scene.mask), scene.mask);
@@ -206,7 +200,7 @@ TEST(SphereLocation, MaskAndDetectionFindTheRenderedSphere) {
 }
 
 TEST(SphereLocation, NoSphereIsAClearErrorNamingTheFile) {
-  const std::string dir = temp_dir("nosphere");
+  const std::string dir = test::fresh_dir("sphere-nosphere");
   cv::Mat noise(200, 240, CV_32FC3);
   cv::RNG(5).fill(noise, cv::RNG::UNIFORM, 0.0, 1.0);
   write_image(dir + "/noise.png", noise);
@@ -227,7 +221,7 @@ TEST(SphereLocation, NoSphereIsAClearErrorNamingTheFile) {
 // Lights
 
 TEST(SphereLights, FilesAreCheckedLineByLine) {
-  const std::string dir = temp_dir("lights");
+  const std::string dir = test::fresh_dir("sphere-lights");
   write_file_atomic(dir + "/ok.txt", "# x y z\n0 0 2\n0.5, 0, 0.5\n\n");
   const std::vector<Vec3> lights = read_light_directions(dir + "/ok.txt", 2);
   EXPECT_NEAR((lights[0] - Vec3(0, 0, 1)).norm(), 0.0, 1e-12);
@@ -245,7 +239,7 @@ TEST(SphereLights, FilesAreCheckedLineByLine) {
 }
 
 TEST(SphereLights, ChromeBallGivesTheLightsWithinOneDegree) {
-  const std::string dir = temp_dir("chrome");
+  const std::string dir = test::fresh_dir("sphere-chrome");
   const std::vector<Vec3> lights = test::dome_lights(12, 60.0);
   for (Encoding encoding : {Encoding::Linear16, Encoding::Srgb8}) {
     const test::SphereScene scene = test::write_chrome_scene(dir, lights, encoding);
@@ -287,7 +281,7 @@ void expect_recovered(const SphereObservation& observation, const std::vector<do
 }
 
 TEST(SphereRecovery, SixteenBitLinearWithNoise) {
-  const std::string dir = temp_dir("recover16");
+  const std::string dir = test::fresh_dir("sphere-recover16");
   const std::vector<Rgb<double>> intensities = {{1.2, 1.0, 0.8}, {0.9, 1.1, 1.3}, {1.0, 1.0, 1.0}, {1.4, 1.2, 1.0},
                                                 {0.8, 0.9, 1.0}, {1.1, 1.0, 0.9}, {1.0, 1.2, 1.1}, {0.9, 0.8, 1.2}};
   test::SceneOptions options;
@@ -305,7 +299,7 @@ TEST(SphereRecovery, SixteenBitLinearWithNoise) {
 }
 
 TEST(SphereRecovery, EightBitSrgbWithNoiseAndDetectedSphere) {
-  const std::string dir = temp_dir("recover8");
+  const std::string dir = test::fresh_dir("sphere-recover8");
   test::SceneOptions options;
   options.encoding = Encoding::Srgb8;
   const test::SphereScene scene = test::write_sphere_scene(dir, "g", ggx(), ggx_truth(), test::dome_lights(8), options);
@@ -319,7 +313,7 @@ TEST(SphereRecovery, EightBitSrgbWithNoiseAndDetectedSphere) {
 }
 
 TEST(SphereRecovery, UnknownIntensitiesKeepShapeAndColourRatios) {
-  const std::string dir = temp_dir("recover-unknown");
+  const std::string dir = test::fresh_dir("sphere-recover-unknown");
   test::SceneOptions options;
   options.intensities.assign(8, Rgb<double>(1.7, 1.7, 1.7));  // brighter than the files will say
   options.extension = ".exr";
@@ -347,7 +341,7 @@ TEST(SphereRecovery, UnknownIntensitiesKeepShapeAndColourRatios) {
 // Pipeline errors
 
 TEST(SpherePipeline, BadInputIsAClearErrorNamingTheFile) {
-  const std::string dir = temp_dir("pipeline-bad");
+  const std::string dir = test::fresh_dir("sphere-pipeline-bad");
   const test::SphereScene scene = test::write_sphere_scene(dir, "g", ggx(), ggx_truth(), test::dome_lights(3));
   const auto input_with = [&](auto change) {
     SphereInput input;
@@ -386,7 +380,7 @@ TEST(SpherePipeline, BadInputIsAClearErrorNamingTheFile) {
 // The sphere command
 
 TEST(SphereCli, FitsWritesTheDocumentAndImages) {
-  const std::string dir = temp_dir("cli");
+  const std::string dir = test::fresh_dir("sphere-cli");
   const test::SphereScene scene = test::write_sphere_scene(dir, "g", ggx(), ggx_truth(), test::dome_lights(5));
   std::string images;
   for (const std::string& path : scene.images) images += " " + path;
@@ -425,7 +419,7 @@ TEST(SphereCli, FitsWritesTheDocumentAndImages) {
 }
 
 TEST(SphereCli, ChromeBallLightsAndDiligentStyleFolder) {
-  const std::string dir = temp_dir("cli-chrome");
+  const std::string dir = test::fresh_dir("sphere-cli-chrome");
   const std::vector<Vec3> lights = test::dome_lights(6, 45.0);
   const test::SphereScene chrome = test::write_chrome_scene(dir, lights, Encoding::Linear16);
   // The object photographs in a DiLiGenT-style folder, without a lights file.
@@ -452,7 +446,7 @@ TEST(SphereCli, ChromeBallLightsAndDiligentStyleFolder) {
 }
 
 TEST(SphereCli, BadInputExitsNonZeroAndWritesNothing) {
-  const std::string dir = temp_dir("cli-bad");
+  const std::string dir = test::fresh_dir("sphere-cli-bad");
   const test::SphereScene scene = test::write_sphere_scene(dir, "g", ggx(), ggx_truth(), test::dome_lights(2));
   cv::Mat noise(256, 320, CV_32FC3);
   cv::RNG(9).fill(noise, cv::RNG::UNIFORM, 0.0, 0.5);

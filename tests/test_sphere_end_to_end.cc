@@ -62,9 +62,7 @@ void write_photograph(const std::string& path, cv::Mat image, uint64_t seed) {
 }
 
 TEST(SphereEndToEnd, PerspectiveMixedExposuresAndChromeLightsAgainstAnIndependentRenderer) {
-  const std::string dir =
-      (std::filesystem::temp_directory_path() / ("brdffit-sphere-e2e-" + std::to_string(::getpid()))).string();
-  std::filesystem::create_directories(dir);
+  const std::string dir = test::fresh_dir("sphere-e2e");
   const PinholeScene scene;
   const Model& ggx = *find_model("ggx");
   const std::vector<double> truth =

@@ -175,9 +175,7 @@ TEST(TwoLobes, ErrorNeverAboveTheOneLobeFit) {
 // an error naming the component.
 TEST(TwoLobes, CommandLine) {
   EXPECT_NE(test::run_cli("models").output.find("FIRST+SECOND"), std::string::npos);
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / ("brdffit-two-lobes-" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
+  const std::filesystem::path dir = test::fresh_dir("two-lobes");
   const Model& ct2 = *find_model("cook-torrance+cook-torrance");
   const std::vector<double> truth =
       parameter_values(ct2, {"albedo=0.2", "specular=0.3", "m=0.4", "specular_2=0.2", "m_2=0.08"});

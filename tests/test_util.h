@@ -2,6 +2,7 @@
 #pragma once
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -17,6 +18,28 @@
 #include "brdffit/samples.h"
 
 namespace brdffit::test {
+
+// This test program's scratch folder, removed when the program ends.
+inline std::filesystem::path scratch_root() {
+  return std::filesystem::temp_directory_path() / ("brdffit-tests-" + std::to_string(::getpid()));
+}
+
+class ScratchCleanup : public ::testing::Environment {
+ public:
+  void TearDown() override {
+    std::error_code ignored;
+    std::filesystem::remove_all(scratch_root(), ignored);
+  }
+};
+inline ::testing::Environment* const kScratchCleanup = ::testing::AddGlobalTestEnvironment(new ScratchCleanup);
+
+// An empty folder for one test, inside the scratch folder.
+inline std::string fresh_dir(const std::string& name) {
+  const std::filesystem::path dir = scratch_root() / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir.string();
+}
 
 // A uniformly random direction in the upper hemisphere, kept away from grazing (z >= min_z).
 inline Vec3 random_upper_direction(std::mt19937_64& rng, double min_z = 0.05) {
