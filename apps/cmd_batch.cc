@@ -182,16 +182,19 @@ void run_batch_command(const BatchArgs& args) {
   if (shard) {
     const size_t all = materials.size();
     materials = shard_materials(materials, *shard);
-    fmt::print("batch: shard {}/{}: {} of {} materials\n", shard->index, shard->count, materials.size(), all);
+    fmt::print("batch: shard {}/{}: {} of {}\n", shard->index, shard->count, materials.size(),
+               count_of(all, "material"));
   }
 #ifdef BRDFFIT_MPI_BATCH
   if (prints)
-    fmt::print("batch: {} materials x {} models over {} MPI ranks, one material at a time each; results in {}\n",
-               materials.size(), options.models.size(), ranks.size() - 1, args.out);
+    fmt::print("batch: {} x {} over {} MPI ranks, one material at a time each; results in {}\n",
+               count_of(materials.size(), "material"), count_of(options.models.size(), "model"), ranks.size() - 1,
+               args.out);
 #else
   const BatchPlan plan = plan_batch(options, materials.size());
-  fmt::print("batch: {} materials x {} models, {} at a time with {} threads each; results in {}\n", materials.size(),
-             options.models.size(), plan.jobs, plan.threads, args.out);
+  fmt::print("batch: {} x {}, {} at a time with {} threads each; results in {}\n",
+             count_of(materials.size(), "material"), count_of(options.models.size(), "model"), plan.jobs, plan.threads,
+             args.out);
 #endif
   std::fflush(stdout);
 
@@ -220,8 +223,8 @@ void run_batch_command(const BatchArgs& args) {
   }
   const OutcomeCounts counts = count_outcomes(outcomes);
   const size_t failed = counts.failed, partial = counts.partial;
-  fmt::print("batch: {} materials in {}: {} ok ({} already done), {} partly fitted, {} failed; {}\n", outcomes.size(),
-             duration_text(seconds), counts.ok, counts.resumed, partial, failed,
+  fmt::print("batch: {} in {}: {} ok ({} already done), {} partly fitted, {} failed; {}\n",
+             count_of(outcomes.size(), "material"), duration_text(seconds), counts.ok, counts.resumed, partial, failed,
              shard ? "summary by `brdffit batch ... --merge` once every shard is done"
                    : "summary in " + (out / "summary.csv").string());
   if (failed + partial > 0)

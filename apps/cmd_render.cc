@@ -113,7 +113,7 @@ void run_report(const ReportArgs& args) {
   };
   const std::string page = report_html(documents, options);
   write_file_atomic(args.out, page);
-  fmt::print("wrote {} ({} materials, {:.1f} MB)\n", args.out, documents.size(), page.size() / 1e6);
+  fmt::print("wrote {} ({}, {:.1f} MB)\n", args.out, count_of(documents.size(), "material"), page.size() / 1e6);
 }
 
 }  // namespace

@@ -131,7 +131,7 @@ std::string comparison_text(const Comparison& c) {
   for (const ModelSummary& m : c.models)
     text += fmt::format("{:<18} {:>6} {:>6} {:>6} {:>12} {:>12} {:>9.2f} {:>7}\n", m.model, m.materials - m.failed,
                         m.poor, m.failed, number(m.mean_error), number(m.median_error), m.mean_rank, m.wins);
-  text += fmt::format("ranked by the {} metric over {} materials\n", metric, c.materials.size());
+  text += fmt::format("ranked by the {} metric over {}\n", metric, count_of(c.materials.size(), "material"));
   for (const MaterialRanking& material : c.materials) {
     text += fmt::format("\n{}:", material.material);
     for (const RankedModel& m : material.models)
@@ -189,7 +189,8 @@ nlohmann::json comparison_json(const Comparison& c) {
 
 std::string comparison_markdown(const Comparison& c) {
   const std::string metric = metric_name(c.metric);
-  std::string md = fmt::format("Models ranked by the {} metric over {} materials.\n\n", metric, c.materials.size());
+  std::string md =
+      fmt::format("Models ranked by the {} metric over {}.\n\n", metric, count_of(c.materials.size(), "material"));
   md += fmt::format("| model | fitted | poor | failed | mean {0} | median {0} | mean rank | best on |\n", metric);
   md += "|---|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const ModelSummary& m : c.models)

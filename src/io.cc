@@ -234,6 +234,10 @@ std::string escape_markup(const std::string& text) {
   return out;
 }
 
+std::string count_of(size_t count, const std::string& noun) {
+  return fmt::format("{} {}{}", count, noun, count == 1 ? "" : "s");
+}
+
 std::string csv_field(const std::string& text) {
   if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
   std::string quoted = "\"";

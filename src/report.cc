@@ -519,10 +519,11 @@ std::string report_html(const std::vector<FitDocument>& documents, const ReportO
   std::string page = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>brdffit report</title>";
   page += fmt::format("<style>{}</style></head><body>\n", kStyle);
   page += fmt::format(
-      "<header><h1>brdffit report</h1><p class=\"meta\">{} materials, {} models, ranked by the {} metric · brdffit "
+      "<header><h1>brdffit report</h1><p class=\"meta\">{}, {}, ranked by the {} metric · brdffit "
       "{}</p>"
       "<p id=\"image-check\"></p></header>\n",
-      documents.size(), comparison.models.size(), metric_name(*options.metric), BRDFFIT_VERSION);
+      count_of(documents.size(), "material"), count_of(comparison.models.size(), "model"), metric_name(*options.metric),
+      BRDFFIT_VERSION);
   page += comparison_html(comparison);
   for (size_t i = 0; i < documents.size(); ++i) {
     page += material_html(documents[i], comparison.materials[i], options, bar, signed_bar);

@@ -39,6 +39,12 @@ TEST(SharedLogic, BestResultSkipsFailedFitsAndErrorsThatAreNotNumbers) {
   EXPECT_EQ(find_result(results, "beckmann"), nullptr);
 }
 
+TEST(SharedLogic, CountsTakeTheirNounsPluralUnlessOne) {
+  EXPECT_EQ(count_of(1, "material"), "1 material");
+  EXPECT_EQ(count_of(0, "material"), "0 materials");
+  EXPECT_EQ(count_of(28, "model"), "28 models");
+}
+
 TEST(SharedLogic, NumbersAsJsonAndAsText) {
   EXPECT_EQ(number_or_null(0.25).dump(), "0.25");
   EXPECT_TRUE(number_or_null(NAN).is_null());

@@ -58,6 +58,9 @@ std::string escape_markup(const std::string& text);
 // and line breaks and other control characters turned into spaces so a row stays one line.
 std::string escape_markdown(const std::string& text);
 
+// "1 material", "3 materials": a count and its noun, plural unless the count is one.
+std::string count_of(size_t count, const std::string& noun);
+
 // A CSV field: quoted, with quotes doubled, when it holds a comma, quote or line break. Every
 // CSV file brdffit writes goes through it.
 std::string csv_field(const std::string& text);
