@@ -41,13 +41,10 @@ std::vector<std::vector<double>> read_rows(const std::string& path, size_t colum
     }
     if (row.empty()) continue;
     if (row.size() != columns)
-      fail("{}:{}: expected {} number{} (a {}), found {}", path, number, columns, columns == 1 ? "" : "s", what,
-           row.size());
+      fail("{}:{}: expected {} (a {}), found {}", path, number, count_of(columns, "number"), what, row.size());
     rows.push_back(row);
   }
-  if (rows.size() != expected)
-    fail("{}: {} {}{} for {} image{}", path, rows.size(), what, rows.size() == 1 ? "" : "s", expected,
-         expected == 1 ? "" : "s");
+  if (rows.size() != expected) fail("{}: {} for {}", path, count_of(rows.size(), what), count_of(expected, "image"));
   return rows;
 }
 
