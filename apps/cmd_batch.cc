@@ -58,8 +58,12 @@ class BatchProgress {
       line += "FAILED: " + o.error;
     } else {
       line += o.resumed ? "already done" : fmt::format("{} in {:.1f} s", material_status_name(o.status), o.seconds);
+      const int poor = count_poor(o.fits);
       if (const FitResult* best = best_result(o.fits, metric_))
         line += fmt::format(", best {} ({} {:.4g})", best->model, metric_name(metric_), best->metrics.get(metric_));
+      else if (!o.fits.empty())
+        line += ", no usable fit";
+      if (poor > 0) line += fmt::format(" ({} poor)", poor);
       if (o.status == MaterialStatus::Partial) line += "; failed: " + o.error;
     }
     if (!terminal_ && fitted() > 0 && done_ < total_) line += ", ETA " + duration_text(eta());

@@ -28,8 +28,10 @@ void print_ranking(const std::vector<FitResult>& results, Metric metric) {
     if (a->ok != b->ok) return a->ok;
     return a->metrics.get(metric) < b->metrics.get(metric);
   });
-  fmt::print("{:>4}  {:<18} {:<7} {:>10} {:>10} {:>10} {:>10} {:>10} {:>6} {:>8}\n", "rank", "model", "verdict",
-             "cosine", "log", "relative", "l2", "max", "iters", "seconds");
+  // typical (how far off a typical sample is, relative to its value) is the column behind most
+  // poor verdicts: it explains a poor fit ranked above a good one.
+  fmt::print("{:>4}  {:<18} {:<7} {:>10} {:>10} {:>10} {:>10} {:>10} {:>8} {:>6} {:>8}\n", "rank", "model", "verdict",
+             "cosine", "log", "relative", "l2", "max", "typical", "iters", "seconds");
   int rank = 0;
   for (const FitResult* r : order) {
     if (!r->ok) {
@@ -37,8 +39,9 @@ void print_ranking(const std::vector<FitResult>& results, Metric metric) {
       continue;
     }
     const Metrics& m = r->metrics;
-    fmt::print("{:>4}  {:<18} {:<7} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g} {:>6} {:>8.2f}\n", ++rank,
-               r->model, verdict_name(r->verdict), m.cosine, m.log, m.relative, m.l2, m.max, r->iterations, r->seconds);
+    fmt::print("{:>4}  {:<18} {:<7} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g} {:>8.3g} {:>6} {:>8.2f}\n",
+               ++rank, r->model, verdict_name(r->verdict), m.cosine, m.log, m.relative, m.l2, m.max, m.typical,
+               r->iterations, r->seconds);
     fmt::print("      {}\n", format_parameters(*r));
     print_warnings(*r, "      ");
   }

@@ -3,6 +3,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cmath>
+
 #include "brdffit/error.h"
 #include "brdffit/measured.h"
 #include "brdffit/merl.h"
@@ -17,24 +19,50 @@ namespace {
 
 void run_info(const std::string& path, bool json) {
   const TableInfo info = describe_measured(path);
+  const bool checked = std::isfinite(info.reciprocity) || !info.albedo_by_incidence.empty();  // not for a CSV
+  auto number = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); };
   if (json) {
     nlohmann::json out = {{"format", info.format},
                           {"resolution", info.resolution},
                           {"valid", info.valid},
                           {"invalid", info.invalid},
+                          {"zero", info.zero},
                           {"min", json_array(info.min)},
                           {"max", json_array(info.max)},
                           {"albedo", info.albedo.allFinite() ? json_array(info.albedo) : nlohmann::json(nullptr)}};
+    if (checked) {
+      nlohmann::json albedo = nlohmann::json::array();
+      for (const TableInfo::AlbedoAt& a : info.albedo_by_incidence)
+        albedo.push_back({{"theta_deg", a.theta_deg}, {"albedo", json_array(a.albedo)}});
+      out["albedo_by_incidence"] = albedo;
+      out["reciprocity"] = {{"median_abs_log_ratio", number(info.reciprocity)},
+                            {"cosine_share", number(info.reciprocity_cosine_share)}};
+      out["isotropic"] = info.isotropic;
+      out["isotropy"] = info.isotropy;
+      out["anisotropy"] = number(info.anisotropy);
+    }
+    out["warnings"] = info.warnings;
     fmt::print("{}\n", out.dump());
     return;
   }
   fmt::print("{}\n  format      {}\n  resolution  {}\n  valid       {}\n  invalid     {}\n", path, info.format,
              info.resolution, info.valid, info.invalid);
+  if (info.valid > 0)
+    fmt::print("  zero        {} ({:.1f}% of the valid entries)\n", info.zero, 100.0 * info.zero / info.valid);
   fmt::print("  min f       {:.6g} {:.6g} {:.6g} (1/sr)\n  max f       {:.6g} {:.6g} {:.6g} (1/sr)\n", info.min[0],
              info.min[1], info.min[2], info.max[0], info.max[1], info.max[2]);
   if (info.albedo.allFinite())
     fmt::print("  albedo      {:.6g} {:.6g} {:.6g} (directional, normal incidence)\n", info.albedo[0], info.albedo[1],
                info.albedo[2]);
+  if (checked) {
+    for (const TableInfo::AlbedoAt& a : info.albedo_by_incidence)
+      fmt::print("  albedo {:>2g}°  {:.4g} {:.4g} {:.4g}\n", a.theta_deg, a.albedo[0], a.albedo[1], a.albedo[2]);
+    fmt::print("  reciprocity {:.3g} (median |ln f(l,v)/f(v,l)|; share of ln(cosθv/cosθl) in it {:.2f})\n",
+               info.reciprocity, info.reciprocity_cosine_share);
+    fmt::print("  isotropic   {} (by its {}; turning about the normal changes f by {:.3g})\n",
+               info.isotropic ? "yes" : "no", info.isotropy, info.anisotropy);
+  }
+  for (const std::string& warning : info.warnings) fmt::print("  warning: {}\n", warning);
 }
 
 struct LookupArgs {

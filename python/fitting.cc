@@ -243,7 +243,7 @@ void bind_fit(py::module_& m) {
           py::keep_alive<0, 1>())
       .def_property_readonly(
           "best", [](const PyFitResults& r) { return best_of(r); }, py::return_value_policy::reference_internal,
-          "The successful fit with the lowest error in the minimised metric, or None.")
+          "The usable (good) fit with the lowest error in the minimised metric, or None: a poor fit is never best.")
       .def_property_readonly(
           "metric", [](const PyFitResults& r) { return metric_name(r.options.metric); },
           "The metric that was minimised.")

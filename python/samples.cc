@@ -90,11 +90,17 @@ PyTable read_table(const py::handle& path_arg, double max_angle, size_t max_samp
 }
 
 py::dict info_dict(const PyTable& table) {
-  const TableInfo info = table.table ? table.table->info() : describe_measured(table.path);
+  const TableInfo info = table.table ? table.table->describe() : describe_measured(table.path);
   const auto rgb = [](const Rgb<double>& c) { return py::make_tuple(c[0], c[1], c[2]); };
   py::dict d;
   d["format"] = info.format, d["resolution"] = info.resolution, d["valid"] = info.valid, d["invalid"] = info.invalid;
-  d["min"] = rgb(info.min), d["max"] = rgb(info.max), d["albedo"] = rgb(info.albedo);
+  d["min"] = rgb(info.min), d["max"] = rgb(info.max), d["albedo"] = rgb(info.albedo), d["zero"] = info.zero;
+  py::list albedo_by_incidence;
+  for (const TableInfo::AlbedoAt& a : info.albedo_by_incidence)
+    albedo_by_incidence.append(py::make_tuple(a.theta_deg, rgb(a.albedo)));
+  d["albedo_by_incidence"] = albedo_by_incidence;
+  d["reciprocity"] = info.reciprocity, d["reciprocity_cosine_share"] = info.reciprocity_cosine_share;
+  d["isotropic"] = info.isotropic, d["anisotropy"] = info.anisotropy, d["warnings"] = info.warnings;
   return d;
 }
 

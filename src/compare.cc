@@ -41,6 +41,9 @@ MaterialRanking rank_material(const FitDocument& document, Metric metric) {
     else
       m.rank = static_cast<int>(i) + 1;
   }
+  const auto usable = std::find_if(ranking.models.begin(), ranking.models.end(),
+                                   [](const RankedModel& m) { return m.ok && m.verdict == Verdict::Good; });
+  if (usable != ranking.models.end()) ranking.best_usable = usable->model;
   return ranking;
 }
 
@@ -67,7 +70,7 @@ ModelSummary summarise_model(const std::string& model, const std::vector<Materia
     }
     errors.push_back(m->error);
     if (m->verdict == Verdict::Poor) ++summary.poor;
-    if (m->rank == 1) ++summary.wins;
+    if (material.is_best_usable(*m)) ++summary.wins;
   }
   if (!errors.empty()) {
     double sum = 0.0;
@@ -85,6 +88,11 @@ std::string number(double x) { return std::isfinite(x) ? fmt::format("{:.4g}", x
 const char* poor_mark(const RankedModel& m) { return m.verdict == Verdict::Poor ? " poor" : ""; }
 
 }  // namespace
+
+bool MaterialRanking::is_best_usable(const RankedModel& m) const {
+  const RankedModel* best = find(best_usable);
+  return best && m.ok && m.verdict == Verdict::Good && m.rank == best->rank;
+}
 
 const RankedModel* MaterialRanking::find(const std::string& model) const {
   for (const RankedModel& m : models)
@@ -137,6 +145,7 @@ std::string comparison_text(const Comparison& c) {
     for (const RankedModel& m : material.models)
       text += m.ok ? fmt::format("  {}. {} {:.4g}{}", m.rank, m.model, m.error, poor_mark(m))
                    : fmt::format("  -. {} failed", m.model);
+    if (material.best_usable.empty()) text += "  (no usable fit)";
     text += "\n";
   }
   return text;
@@ -179,10 +188,12 @@ nlohmann::json comparison_json(const Comparison& c) {
                         {"error", number_or_null(r.error)},
                         {"rank", r.rank},
                         {"verdict", verdict_name(r.verdict)}});
-    materials.push_back({{"material", material.material},
-                         {"document", material.document},
-                         {"input", material.input},
-                         {"models", ranked}});
+    materials.push_back(
+        {{"material", material.material},
+         {"document", material.document},
+         {"input", material.input},
+         {"best_usable", material.best_usable.empty() ? nlohmann::json(nullptr) : nlohmann::json(material.best_usable)},
+         {"models", ranked}});
   }
   return {{"metric", metric_name(c.metric)}, {"models", models}, {"materials", materials}};
 }
@@ -211,7 +222,8 @@ std::string comparison_markdown(const Comparison& c) {
       else if (!r->ok)
         md += " failed |";
       else
-        md += fmt::format(r->rank == 1 ? " **{:.4g}** ({}){} |" : " {:.4g} ({}){} |", r->error, r->rank, poor_mark(*r));
+        md += fmt::format(material.is_best_usable(*r) ? " **{:.4g}** ({}){} |" : " {:.4g} ({}){} |", r->error,
+                          r->rank, poor_mark(*r));
     }
     md += "\n";
   }

@@ -130,10 +130,13 @@ SampleSet MerlTable::samples(const SamplingOptions& options) const {
   SampleSet set;
   set.source = path_;
   set.weighting = "solid-angle";
+  set.isotropic = true;  // the format stores no φh
   set.samples.reserve(bins() - invalid_);
   const HalfDiffGrid g = grid();
-  g.for_each_bin_above_horizon([&](int ih, int id, int ip, const Vec3& l, const Vec3& v, double weight) {
+  AzimuthSpread spread;
+  g.for_each_bin_above_horizon([&](int ih, int id, int ip, Vec3 l, Vec3 v, double weight) {
     const size_t bin = bin_index(ih, id, ip);
+    spread.turn(l, v);
     if (valid(bin) && within_angle_limit(options, l, v)) set.samples.push_back({l, v, value(bin) * l.z(), weight});
   });
   apply_sampling_options(set, options);
@@ -147,7 +150,13 @@ TableInfo MerlTable::info() const {
   info.invalid = invalid_;
   info.valid = bins() - invalid_;
   for (size_t bin = 0; bin < bins(); ++bin)
-    if (valid(bin)) info.include_in_range(value(bin));
+    if (valid(bin)) {
+      const Rgb<double> f = value(bin);
+      info.include_in_range(f);
+      if ((f.array() <= 0.0).all()) ++info.zero;
+    }
+  info.isotropic = true;
+  info.isotropy = "format";  // MERL stores no φh
   info.albedo = directional_albedo(*this, Vec3(0, 0, 1));
   return info;
 }

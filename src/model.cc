@@ -22,6 +22,7 @@ const char* role_name(Role role) {
     case Role::Roughness: return "roughness";
     case Role::Exponent: return "exponent";
     case Role::Wrap: return "wrap";
+    case Role::Orientation: return "orientation";
     case Role::Shape: return "shape";
   }
   return "shape";

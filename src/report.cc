@@ -247,7 +247,7 @@ std::string comparison_html(const Comparison& c) {
         out += "<td class=\"failed\">failed</td>";
       else
         out +=
-            fmt::format("<td class=\"num{}{}\"{}>{:.4g} ({})</td>", r->rank == 1 ? " best" : "",
+            fmt::format("<td class=\"num{}{}\"{}>{:.4g} ({})</td>", material.is_best_usable(*r) ? " best" : "",
                         r->verdict == Verdict::Poor ? " poor" : "",
                         r->verdict == Verdict::Poor ? " title=\"poor fit: see its warnings\"" : "", r->error, r->rank);
     }
@@ -282,7 +282,8 @@ std::string photographs_html(const FitDocument& document, const MaterialRanking&
   if (!doc.contains("images") || !doc["images"].is_array() || doc["images"].empty() || !doc.contains("sphere"))
     return "";
   const nlohmann::json& images = doc["images"];
-  const FitResult* best = nullptr;
+  // The best usable fit; when every fit is poor, the best-ranked one (the caption says which).
+  const FitResult* best = find_result(document.results, ranking.best_usable);
   for (const RankedModel& ranked : ranking.models)
     if (ranked.ok && !best) best = find_result(document.results, ranked.model);
   const Model* best_model = best ? find_model(best->model) : nullptr;

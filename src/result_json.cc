@@ -123,9 +123,16 @@ const FitResult* best_result(const std::vector<FitResult>& results, Metric metri
   const FitResult* best = nullptr;
   for (const FitResult& result : results) {
     const double error = result.metrics.get(metric);
-    if (result.ok && std::isfinite(error) && (!best || error < best->metrics.get(metric))) best = &result;
+    if (result.ok && result.verdict == Verdict::Good && std::isfinite(error) &&
+        (!best || error < best->metrics.get(metric)))
+      best = &result;
   }
   return best;
+}
+
+int count_poor(const std::vector<FitResult>& results) {
+  return static_cast<int>(std::count_if(results.begin(), results.end(),
+                                        [](const FitResult& r) { return r.ok && r.verdict == Verdict::Poor; }));
 }
 
 nlohmann::json fit_result_json(const FitResult& result) {

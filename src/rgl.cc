@@ -206,6 +206,13 @@ RglBrdf RglBrdf::parse(const std::string& bytes, const std::string& name) {
     fail("{}: anisotropic RGL file whose φi grid spans {:.4g} rad, not 2π (symmetry-reduced files are not supported)",
          name, phi_axis.back() - phi_axis.front());
   brdf.incident_resolution_ = {n_phi, n_theta};
+  // Entries (per incident direction and grid vertex) that are 0 or clipped to 0 in every channel.
+  const size_t entry_size = size_t(rgb.shape[3]) * rgb.shape[4];
+  for (size_t incident = 0; incident < n_phi * n_theta; ++incident)
+    for (size_t i = 0; i < entry_size; ++i) {
+      const float* channels = &rgb_values[incident * 3 * entry_size + i];
+      if (channels[0] <= 0.0f && channels[entry_size] <= 0.0f && channels[2 * entry_size] <= 0.0f) ++brdf.zero_entries_;
+    }
   brdf.rgb_resolution_ = {rgb.shape[3], rgb.shape[4]};
   auto grid = [](const TensorFile::Field& f, std::vector<float> values, std::vector<std::vector<float>> axes,
                  bool normalise) {
@@ -219,9 +226,9 @@ RglBrdf RglBrdf::parse(const std::string& bytes, const std::string& name) {
   return brdf;
 }
 
-Rgb<double> RglBrdf::eval(const Vec3& l, const Vec3& v) const {
-  if (!(l.z() > 0.0 && v.z() > 0.0)) return Rgb<double>::Zero();
-  const Vec3 wi = l.normalized(), wo = v.normalized(), wm = (wi + wo).normalized();
+Rgb<double> RglBrdf::tabulated(const Vec3& wi, const Vec3& wo) const {
+  if (!(wi.z() > 0.0 && wo.z() > 0.0)) return Rgb<double>::Zero();
+  const Vec3 wm = (wi + wo).normalized();
   const double theta_i = elevation(wi), phi_i = std::atan2(wi.y(), wi.x());
   const double theta_m = elevation(wm), phi_m = std::atan2(wm.y(), wm.x());
   const double um_x = theta_to_u(theta_m);
@@ -231,29 +238,31 @@ Rgb<double> RglBrdf::eval(const Vec3& l, const Vec3& v) const {
   const std::array<double, 2> sample = vndf_.invert(um_x, um_y, incident);
   const double scale =
       ndf_.eval(um_x, um_y, nullptr) / (4.0 * sigma_.eval(theta_to_u(theta_i), phi_to_u(phi_i), nullptr));
-  Rgb<double> f;
+  Rgb<double> value;
   for (int c = 0; c < 3; ++c) {
     const double incident_and_channel[3] = {phi_i, theta_i, double(c)};
-    f[c] = std::max(0.0, rgb_.eval(sample[0], sample[1], incident_and_channel)) * scale;
+    value[c] = std::max(0.0, rgb_.eval(sample[0], sample[1], incident_and_channel)) * scale;
   }
-  return f;
+  return value;
+}
+
+Rgb<double> RglBrdf::eval(const Vec3& l, const Vec3& v) const {
+  const Vec3 light = l.normalized();
+  // The table at (wi = view, wo = light) holds f·cosθ of the light (see the head of rgl.h).
+  return tabulated(v.normalized(), light) / std::max(light.z(), kMinCosLight);
 }
 
 SampleSet RglBrdf::samples(const SamplingOptions& options) const {
   const HalfDiffGrid grid{kSampleGrid[0], kSampleGrid[1], kSampleGrid[2], kPi};
-  const double golden = 0.5 * (std::sqrt(5.0) - 1.0);
-  size_t visited = 0;
+  AzimuthSpread spread;
   SampleSet set;
   set.source = path_;
   set.weighting = "solid-angle";
+  set.isotropic = isotropic_;
   grid.for_each_bin_above_horizon([&](int, int, int, Vec3 l, Vec3 v, double weight) {
-    if (!isotropic_) {
-      // A Kronecker sequence spreads the bins' half vectors evenly over φh.
-      const double phi_h = 2 * kPi * std::fmod(++visited * golden, 1.0);
-      l = rotate_z(l, phi_h);
-      v = rotate_z(v, phi_h);
-    }
-    if (within_angle_limit(options, l, v)) set.samples.push_back({l, v, eval(l, v) * l.z(), weight});
+    spread.turn(l, v);
+    // The shaded value f·cosθl is what the table holds: no division by a vanishing cosine.
+    if (within_angle_limit(options, l, v)) set.samples.push_back({l, v, tabulated(v, l), weight});
   });
   apply_sampling_options(set, options);
   return set;
@@ -265,7 +274,14 @@ TableInfo RglBrdf::info() const {
   info.resolution = fmt::format("{}x{} incident, {}x{} rgb ({})", incident_resolution_[0], incident_resolution_[1],
                                 rgb_resolution_[0], rgb_resolution_[1], isotropic_ ? "isotropic" : "anisotropic");
   info.valid = incident_resolution_[0] * incident_resolution_[1] * rgb_resolution_[0] * rgb_resolution_[1];
-  for (const Sample& s : samples(SamplingOptions{}).samples) info.include_in_range(s.value / s.l.z());
+  info.zero = zero_entries_;
+  info.isotropic = isotropic_;
+  info.isotropy = "file";  // its φi grid: one or two values
+  // The range of f within 80° of the normal: beyond, f is a small tabulated value over a
+  // vanishing cosine.
+  SamplingOptions within_80;
+  within_80.max_angle_deg = 80;
+  for (const Sample& s : samples(within_80).samples) info.include_in_range(s.value / s.l.z());
   info.albedo = directional_albedo(*this, Vec3(0, 0, 1));
   return info;
 }

@@ -40,10 +40,10 @@ inline SampleSet anisotropic_samples(const Model& model, const std::vector<doubl
 }
 
 // The tensor-file fields of an anisotropic RGL BRDF that tabulates `model` at `values`. The
-// RGL evaluation is f = rgb(warped u)·ndf(u)/(4σ) with u the half vector's coordinates
+// RGL table's value is f·cosθo = rgb(warped u)·ndf(u)/(4σ) with u the half vector's coordinates
 // (rgl.h); here the VNDF is uniform (its warp is the identity), σ = 1/4, the NDF table holds
 // the fast-varying part of the lobe, P(h) = f(h, h) (the half vector's peak value), on a fine
-// grid, and rgb the slowly varying f(l, v)/P(h) per incident direction. `resolution` scales
+// grid, and rgb the slowly varying f(l, v)·cosθo/P(h) per incident direction. `resolution` scales
 // every grid.
 inline std::vector<TensorField> anisotropic_rgl_fields(const Model& model, const std::vector<double>& values,
                                                        int resolution = 1) {
@@ -82,7 +82,8 @@ inline std::vector<TensorField> anisotropic_rgl_fields(const Model& model, const
                     const Vec3 h = from_grid(i[4], n_theta_m, i[3], n_phi_m);
                     const Vec3 v = 2 * l.dot(h) * h - l;
                     if (l.z() <= 1e-4 || v.z() <= 1e-4) return 0.0;
-                    return (*model.brdf(values.data(), l, v))[i[2]] / peak(h);
+                    // RGL tables hold f·cosθo, wi the view (rgl.h): here l is the table's wi.
+                    return (*model.brdf(values.data(), l, v))[i[2]] * v.z() / peak(h);
                   }),
       {"jacobian", kUInt8, {1}, std::string(1, '\x01')},
   };

@@ -23,6 +23,7 @@ FitResult result(const std::string& model, bool ok, double cosine) {
   FitResult r;
   r.model = model;
   r.ok = ok;
+  r.verdict = ok ? Verdict::Good : Verdict::Failed;
   r.metrics.cosine = cosine;
   return r;
 }

@@ -82,13 +82,14 @@ TEST(TableCli, LookupGivesTheMeasuredMerlBin) {
 }
 
 TEST(TableCli, LookupGivesTheMeasuredF) {
-  // RGL: the public loader's value at the mirror direction of 45° incidence (test_rgl.cc).
+  // RGL: the public loader's value at wi = (1,0,1), wo = (-1,0,1), the mirror pair of 45°
+  // incidence (test_rgl.cc), is f·cosθo with wi the view and wo the light (rgl.h).
   const std::string rgl = std::string(BRDFFIT_SOURCE_DIR) + "/data/cc_ibiza_sunset_rgb.bsdf";
-  const Rgb<double> f = rgb_of(json_output(run_cli("lookup " + rgl + " --light 2,0,2 --view -1,0,1 --json"))["brdf"]);
-  EXPECT_NEAR(f[0], 2.46805429, 1e-4);
-  EXPECT_NEAR(f[2], 0.944497049, 1e-4);
-  const auto text = run_cli("lookup " + rgl + " --light 1,0,1 --view -1,0,1");
-  EXPECT_EQ(text.output.rfind("brdf 2.468", 0), 0u) << text.output;
+  const Rgb<double> f = rgb_of(json_output(run_cli("lookup " + rgl + " --light -1,0,1 --view 2,0,2 --json"))["brdf"]);
+  EXPECT_NEAR(f[0], 2.46805429 / std::sqrt(0.5), 1e-4);
+  EXPECT_NEAR(f[2], 0.944497049 / std::sqrt(0.5), 1e-4);
+  const auto text = run_cli("lookup " + rgl + " --light -1,0,1 --view 1,0,1");
+  EXPECT_EQ(text.output.rfind("brdf 3.490", 0), 0u) << text.output;
   // Below the horizon: zero.
   EXPECT_TRUE(rgb_of(json_output(run_cli("lookup " + rgl + " --light 1,0,-1 --view -1,0,1 --json"))["brdf"]).isZero());
 }

@@ -6,7 +6,8 @@
 // rank (1, 2, 2, 4); models whose fit failed (or whose error is not a number) share the place
 // after every model that fitted. Mean and median run over the materials where the model fitted;
 // the mean rank over every material that has the model, failures included, so that failing is
-// not better than fitting badly. A model is best on a material when its rank there is 1.
+// not better than fitting badly. A model is best on a material when it is the best-ranked of
+// the fits judged good there (a poor fit can rank first by the metric, never be best).
 #pragma once
 
 #include <string>
@@ -30,6 +31,10 @@ struct MaterialRanking {
   std::string document;             // path of the result document
   std::string input;                // the measured table the document names
   std::vector<RankedModel> models;  // best first; failed fits last
+  std::string best_usable;          // the best-ranked good fit; empty when every fit is poor or failed
+
+  // Whether m is a good fit that ranks with the best good fit (ties share it).
+  bool is_best_usable(const RankedModel& m) const;
 
   const RankedModel* find(const std::string& model) const;
 };
@@ -41,7 +46,7 @@ struct ModelSummary {
   int poor = 0;                                 // of those, where its fit was judged poor
   double mean_error = NAN, median_error = NAN;  // over the materials where it fitted
   double mean_rank = NAN;
-  int wins = 0;  // materials where its rank is 1
+  int wins = 0;  // materials where it is the best usable (good) fit: a poor fit is never best
 };
 
 struct Comparison {

@@ -14,6 +14,7 @@ enum class Role {
   Roughness,       // microfacet or surface roughness
   Exponent,        // lobe sharpness exponent (shininess, gloss, n)
   Wrap,            // how far lighting wraps past the terminator
+  Orientation,     // rotation of an anisotropic lobe's frame about the normal (meaningless on isotropic data)
   Shape,           // any other shape parameter
 };
 

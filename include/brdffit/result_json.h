@@ -28,9 +28,12 @@ std::string format_values(const std::vector<double>& xs, const char* format = "{
 // The result of `model` among `results`, or nullptr.
 const FitResult* find_result(const std::vector<FitResult>& results, const std::string& model);
 
-// The result with the lowest error under `metric` among those that fitted with a finite error,
-// or nullptr when none did.
+// The result with the lowest error under `metric` among the usable fits (verdict good, finite
+// error), or nullptr when none is usable: a poor fit is never called best, whatever its error.
 const FitResult* best_result(const std::vector<FitResult>& results, Metric metric);
+
+// How many of `results` fitted but were judged poor.
+int count_poor(const std::vector<FitResult>& results);
 
 nlohmann::json fit_result_json(const FitResult& result);
 

@@ -9,12 +9,22 @@
 //   u = (√(θm/(π/2)), (φm - φi + π)/(2π) mod 1)        (φm instead of φm - φi if anisotropic)
 // and the inverse of the visible-NDF warp (field vndf, [φi, θi, ny, nx]: a marginal/conditional
 // 2D distribution, bilinear per patch, interpolated linearly over φi and θi) maps u to the
-// sample coordinates of the RGB grid. Then
-//   f = max(rgb(sample), 0) · D(u) / (4 σ(√(θi/(π/2)), (φi + π)/(2π)))
+// sample coordinates of the RGB grid. Then the table's value is
+//   f·cosθo = max(rgb(sample), 0) · D(u) / (4 σ(√(θi/(π/2)), (φi + π)/(2π)))
 // with D (field ndf) the tabulated NDF and σ (field sigma) the projected area, both bilinear
 // over their unit squares. Negative RGB (spectral data out of gamut) is clipped to 0 as the
 // public loader does by default. Every grid may have any resolution of at least 2x2.
 //
+// Convention: the table holds f·cosθo, not f, where (Mitsuba's naming) wi points towards the
+// viewer and wo towards the light: the public loader documents its eval() as "Evaluate f_r * cos"
+// (powitacq_rgb.h), and its Mitsuba plugin returns that value from a BSDF eval() whose contract is
+// f·cosθo, rendered with wi the direction to the sensor. So the table at (wi = v, wo = l) is the
+// shaded value f(l,v)·cosθl itself: samples() takes it as it is, and eval() divides it by cosθl to
+// return the BRDF f (1/sr), reciprocal like any BRDF. The evidence on the six shared files (brdffit
+// info, tests/test_measurement_truth.cc): taken as f, the table's median |ln f(l,v)/f(v,l)| is
+// 0.31-0.40 and tracks ln(cosθv/cosθl) (correlation 0.84-0.99); divided by the cosine it is
+// 0.02-0.04 on matte files and no longer tracks it. Read as f, white paper's Lambert albedo came out
+// 0.42 where its directional albedo at normal incidence is 0.82.
 // Files with more than two φi values are anisotropic; they are evaluated when their φi grid
 // spans 2π (as the public loader does) and refused otherwise (symmetry-reduced files).
 // The fields luminance (for importance sampling) and valid are not used.
@@ -74,9 +84,12 @@ class RglBrdf final : public MeasuredBrdf {
   const std::string& path() const override { return path_; }
   const std::string& description() const { return description_; }
   // Valid: the RGB table entries (φi × θi × ny × nx); invalid: 0. The range of f is taken over
-  // the sample grid, as the tables hold warped values.
+  // the sample grid within 80° of the normal, as the tables hold warped values.
   TableInfo info() const override;
+  // The BRDF f(l, v) (1/sr): the table's value at wi = v, wo = l divided by cosθl (see above).
+  // cosθl is taken as at least kMinCosLight, where the table's values vanish.
   Rgb<double> eval(const Vec3& l, const Vec3& v) const override;
+  static constexpr double kMinCosLight = 1e-3;
   // Samples on a regular half/difference grid like a MERL table's (θh 64 bins √-spaced over
   // [0, π/2), θd 64 bins over [0, π/2), φd 90 bins over [0, π)), one at each bin centre whose
   // pair lies above the horizon, weighted by the solid-angle measure of its bin
@@ -89,10 +102,13 @@ class RglBrdf final : public MeasuredBrdf {
 
  private:
   RglBrdf() = default;
+  // The table's value at (wi, wo), as the public loader's BRDF::eval returns it: f·cosθo.
+  Rgb<double> tabulated(const Vec3& wi, const Vec3& wo) const;
   std::string path_, description_;
   bool isotropic_ = true;
   std::array<size_t, 2> incident_resolution_{};  // φi, θi
   std::array<size_t, 2> rgb_resolution_{};       // ny, nx
+  size_t zero_entries_ = 0;                      // RGB entries ≤ 0 in every channel
   ParametricGrid2D ndf_, sigma_, vndf_, rgb_;
 };
 

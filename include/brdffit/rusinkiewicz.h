@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include "brdffit/math.h"
@@ -102,6 +103,24 @@ struct HalfDiffGrid {
       }
     }
   }
+};
+
+// Turns successive direction pairs about the normal by φh = 2π·frac(k·(√5-1)/2) for the k-th
+// pair (a Kronecker sequence: deterministic and evenly spread). A table's bins put every half
+// vector at φh = 0; an isotropic table's value is the same at any φh, so its samples spread this
+// way are still its measurements, and they constrain a model over every azimuth. Without the
+// spread an anisotropic model sees one slice and invents an orientation.
+class AzimuthSpread {
+ public:
+  void turn(Vec3& l, Vec3& v) {
+    const double phi_h = 2 * kPi * std::fmod(double(++count_) * kGoldenFraction, 1.0);
+    l = rotate_z(l, phi_h);
+    v = rotate_z(v, phi_h);
+  }
+
+ private:
+  static constexpr double kGoldenFraction = 0.6180339887498949;  // (√5-1)/2
+  uint64_t count_ = 0;
 };
 
 }  // namespace brdffit

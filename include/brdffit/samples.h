@@ -20,6 +20,9 @@ struct SampleSet {
   std::vector<Sample> samples;
   std::string source;     // file or description the samples came from
   std::string weighting;  // how weights were chosen, for reports ("uniform", "solid-angle", ...)
+  // The source is isotropic: f does not change when both directions turn about the normal (MERL
+  // tables, isotropic RGL files). A model's orientation about the normal then means nothing.
+  bool isotropic = false;
 
   size_t size() const { return samples.size(); }
   bool empty() const { return samples.empty(); }

@@ -64,7 +64,7 @@ inline ParamSpec tangent_rotation_param() {
           30.0,
           "rotation of the lobe's x axis about the normal from the table's x axis, in degrees (x, y widths "
           "exchanged: +90°)",
-          Role::Shape};
+          Role::Orientation};
 }
 
 // The components of a direction d along the tangent frame turned by phi0_degrees about the normal.
