@@ -222,8 +222,8 @@ std::string comparison_markdown(const Comparison& c) {
       else if (!r->ok)
         md += " failed |";
       else
-        md += fmt::format(material.is_best_usable(*r) ? " **{:.4g}** ({}){} |" : " {:.4g} ({}){} |", r->error,
-                          r->rank, poor_mark(*r));
+        md += fmt::format(material.is_best_usable(*r) ? " **{:.4g}** ({}){} |" : " {:.4g} ({}){} |", r->error, r->rank,
+                          poor_mark(*r));
     }
     md += "\n";
   }
