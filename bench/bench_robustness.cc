@@ -12,8 +12,9 @@
 //   - nesting violations: the model's error above that of a model it contains exactly;
 //   - verdicts: poor/failed counts, and whether each poor one is deserved (its error at least
 //     1.5x the best model's on that member, i.e. some model describes the data clearly better);
-//   - good fits worse than Lambert by more than 5% (must be none), and the worst ratio of a good
-//     fit's error to Lambert's;
+//   - good fits worse than Lambert by more than 5% on any judged metric (cosine, log, relative,
+//     l2; must be none), and the worst ratio of a good fit's error to Lambert's;
+//   - anisotropic fits of isotropic members whose widths differ by more than 15% (must be none);
 //   - seconds per member (all models).
 // With --repeat K the first K members are fitted again and every error must be bit-identical.
 #include <unistd.h>
@@ -24,6 +25,7 @@
 #include <chrono>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <random>
 
 #include "brdffit/error.h"
@@ -124,14 +126,27 @@ std::vector<Member> members(const std::vector<const Model*>& models, const std::
   return list;
 }
 
+constexpr Metric kJudgedMetrics[] = {Metric::Cosine, Metric::Log, Metric::Relative, Metric::L2};
+
+// An anisotropic model's two widths: the parameters just before its frame rotation (Role::Orientation),
+// or nothing for an isotropic model.
+std::optional<std::pair<double, double>> widths(const Model& model, const FitResult& r) {
+  const std::vector<ParamSpec>& params = model.parameters();
+  for (size_t i = 2; i < params.size(); ++i)
+    if (params[i].role == Role::Orientation)
+      return std::pair{r.values[model.offset_of(params[i - 2].name)], r.values[model.offset_of(params[i - 1].name)]};
+  return std::nullopt;
+}
+
 struct Tally {
   int pairs = 0, nesting_violations = 0, poor = 0, poor_deserved = 0, failed = 0, good_worse_than_lambert = 0;
+  int anisotropic_on_isotropic = 0, oriented_on_isotropic = 0;  // fits; of those, width ratio > 1.15
   double worst_good_ratio = 0.0;
   std::string worst_good;
   std::vector<std::string> notes;
 };
 
-void judge_member(const std::string& member, const std::vector<FitResult>& results, Tally& tally) {
+void judge_member(const std::string& member, bool isotropic, const std::vector<FitResult>& results, Tally& tally) {
   std::map<std::string, const FitResult*> by_name;
   double best = HUGE_VAL;
   for (const FitResult& r : results) {
@@ -164,11 +179,30 @@ void judge_member(const std::string& member, const std::vector<FitResult>& resul
                                           best, r.warnings.empty() ? "" : r.warnings.front()));
     }
     if (r.verdict == Verdict::Good && lambert && lambert->ok && r.model != "lambert") {
-      const double ratio = r.metrics.cosine / lambert->metrics.cosine;
-      if (ratio > 1.05) ++tally.good_worse_than_lambert;
+      // Worse than Lambert on any judged metric, whichever was minimised.
+      double ratio = 0.0;
+      const char* worst_metric = "";
+      for (const Metric m : kJudgedMetrics)
+        if (r.metrics.get(m) / lambert->metrics.get(m) > ratio) {
+          ratio = r.metrics.get(m) / lambert->metrics.get(m);
+          worst_metric = metric_name(m);
+        }
+      if (ratio > 1.05) {
+        ++tally.good_worse_than_lambert;
+        tally.notes.push_back(fmt::format("good>L  {} {}: {} {:.3f}x Lambert's", member, r.model, worst_metric, ratio));
+      }
       if (ratio > tally.worst_good_ratio) {
         tally.worst_good_ratio = ratio;
-        tally.worst_good = member + " " + r.model;
+        tally.worst_good = fmt::format("{} {} ({})", member, r.model, worst_metric);
+      }
+    }
+    if (const auto w = widths(*find_model(r.model), r); w && isotropic && r.ok) {
+      ++tally.anisotropic_on_isotropic;
+      const double ratio = std::max(w->first, w->second) / std::min(w->first, w->second);
+      if (ratio > 1.15) {
+        ++tally.oriented_on_isotropic;
+        tally.notes.push_back(fmt::format("aniso   {} {}: widths {:.4g} and {:.4g} on isotropic data", member, r.model,
+                                          w->first, w->second));
       }
     }
   }
@@ -209,7 +243,7 @@ int main(int argc, char** argv) {
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       total_seconds += seconds;
       worst_seconds = std::max(worst_seconds, seconds);
-      judge_member(list[i].name, results, tally);
+      judge_member(list[i].name, data.isotropic, results, tally);
       const FitResult* best = nullptr;
       int poor = 0, failed = 0;
       for (const FitResult& r : results) {
@@ -241,13 +275,19 @@ int main(int argc, char** argv) {
     fmt::print("pairs worse than a model they contain exactly: {}\n", tally.nesting_violations);
     fmt::print("poor verdicts: {} ({} deserved: error >= 1.5x the best model's), failed: {}\n", tally.poor,
                tally.poor_deserved, tally.failed);
-    fmt::print("good fits worse than Lambert by more than 5%: {}\n", tally.good_worse_than_lambert);
+    fmt::print("good fits worse than Lambert by more than 5% on any of cosine, log, relative, l2: {}\n",
+               tally.good_worse_than_lambert);
+    fmt::print("anisotropic fits of isotropic members with a width ratio above 1.15: {} of {}\n",
+               tally.oriented_on_isotropic, tally.anisotropic_on_isotropic);
     fmt::print("worst ratio of a good fit's error to Lambert's: {:.4f} ({})\n", tally.worst_good_ratio,
                tally.worst_good);
     if (repeat > 0) fmt::print("repeated {} members: {} errors differ\n", first_errors.size(), repeat_mismatches);
     fmt::print("seconds per member (all {} models): mean {:.2f}, worst {:.2f}\n", models.size(),
                total_seconds / std::max<size_t>(1, list.size()), worst_seconds);
-    return tally.nesting_violations + tally.good_worse_than_lambert + repeat_mismatches > 0 ? 1 : 0;
+    return tally.nesting_violations + tally.good_worse_than_lambert + tally.oriented_on_isotropic + repeat_mismatches >
+                   0
+               ? 1
+               : 0;
   } catch (const Error& e) {
     fmt::print(stderr, "bench_robustness: error: {}\n", e.what());
     return 2;
