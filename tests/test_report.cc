@@ -227,6 +227,7 @@ std::string find_chromium() {
 
 TEST_F(Report, ChromiumLoadsThePageWithEveryImage) {
   const std::string chromium = find_chromium();
+  if (chromium.empty() && test::running_in_ci()) FAIL() << "chromium is missing (CI installs it)";
   if (chromium.empty())
     GTEST_SKIP() << "chromium is not installed (scripts/install-deps.sh installs it with BRDFFIT_WITH_CHROMIUM=1)";
   ASSERT_EQ(report_.exit_code, 0) << report_.output;
