@@ -14,7 +14,8 @@ def test_cases(path):
     """(name, seconds, skip message or None) of every test case of a JUnit file."""
     for case in ElementTree.parse(path).getroot().iter("testcase"):
         name, group = case.get("name"), case.get("classname")
-        if group and group != name:
+        name = name.split("  # GetParam()")[0]  # ctest's names of parameterised GoogleTest tests
+        if group and group.split("  # GetParam()")[0] != name:
             name = f"{group}::{name}"  # pytest: the module, then the test function
         skipped = case.find("skipped")
         message = None if skipped is None else skip_reason(skipped, case.findtext("system-out") or "")
