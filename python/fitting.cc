@@ -358,8 +358,8 @@ status 'failed' and its error; the others are still fitted). Bad options or data
 brdffit.Error with the command line's message.
 
 The fit runs without the GIL (other Python threads go on). Ctrl-C stops it at the solver's
-next iteration (or within 50 ms of a grid): the call raises KeyboardInterrupt and no result is
-kept.)");
+next iteration (during a grid search, when the grid ends): the call raises KeyboardInterrupt
+and no result is kept.)");
 
   m.def("score", &score, py::arg("data"), py::arg("model"), py::arg("params") = py::none(),
         R"(score(data, model, params=None) -> dict
