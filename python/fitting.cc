@@ -6,8 +6,11 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cstdint>
 #include <future>
+#include <mutex>
+#include <optional>
 
 #include "bindings.h"
 #include "brdffit/error.h"
@@ -29,36 +32,94 @@ struct PyFitResults {
 };
 
 // fit_models on a worker thread, without the GIL. Python runs its signal handlers only in the
-// main thread, between bytecodes, so this thread wakes every 50 ms to run them: Ctrl-C (a
-// handler that raises) stops the fit through FitOptions::cancel, within a solver iteration, and
-// the exception propagates.
-std::vector<FitResult> fit_interruptibly(const std::vector<const Model*>& models, const SampleSet& data,
-                                         FitOptions options) {
-  std::atomic<bool> cancel{false};
-  options.cancel = &cancel;
-  std::future<std::vector<FitResult>> fit =
-      std::async(std::launch::async, [&] { return fit_models(models, data, options); });
-  for (;;) {
-    bool done = false;
-    {
-      py::gil_scoped_release release;
-      done = fit.wait_for(std::chrono::milliseconds(50)) == std::future_status::ready;
-    }
-    if (done) return fit.get();
-    if (PyErr_CheckSignals() != 0) {
-      cancel = true;
+// main thread, between bytecodes, so the main thread waits for the worker's events and runs them:
+// after each solver iteration the worker hands over and waits, and the main thread calls
+// `on_iteration` (if given) and checks for signals before letting it go on; during the grids, which
+// have no iterations, it checks every 50 ms. A Ctrl-C (a handler that raises) or an exception
+// from `on_iteration` sets FitOptions::cancel before the worker resumes, so the solver stops in
+// that same iteration, and the exception propagates.
+class InterruptibleFit {
+ public:
+  InterruptibleFit(const std::vector<const Model*>& models, const SampleSet& data, FitOptions options,
+                   py::object on_iteration)
+      : on_iteration_(std::move(on_iteration)) {
+    options.cancel = &cancel_;
+    options.on_iteration = [this](const std::string& model, int iteration) { hand_over(model, iteration); };
+    fit_ = std::async(std::launch::async, [this, &models, &data, options] {
+      struct Finished {  // tells the main thread however fit_models ends
+        InterruptibleFit& fit;
+        ~Finished() {
+          const std::lock_guard<std::mutex> lock(fit.mutex_);
+          fit.finished_ = true;
+          fit.changed_.notify_all();
+        }
+      } finished{*this};
+      return fit_models(models, data, options);
+    });
+  }
+
+  std::vector<FitResult> results() {
+    for (;;) {
+      std::optional<Iteration> iteration;
       {
         py::gil_scoped_release release;
-        fit.wait();
+        std::unique_lock<std::mutex> lock(mutex_);
+        changed_.wait_for(lock, std::chrono::milliseconds(50), [this] { return finished_ || waiting_; });
+        if (finished_) break;
+        iteration = waiting_;
       }
       try {
-        fit.get();
-      } catch (const Cancelled&) {
+        if (iteration && !on_iteration_.is_none()) on_iteration_(iteration->model, iteration->number);
+        if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+      } catch (...) {
+        stop();
+        throw;
       }
-      throw py::error_already_set();
+      if (iteration) resume();
+    }
+    return fit_.get();
+  }
+
+ private:
+  struct Iteration {
+    std::string model;
+    int number;
+  };
+
+  // In the worker: wait until the main thread has seen this iteration.
+  void hand_over(const std::string& model, int number) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    waiting_ = Iteration{model, number};
+    changed_.notify_all();
+    changed_.wait(lock, [this] { return !waiting_; });
+  }
+
+  void resume() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    waiting_.reset();
+    changed_.notify_all();
+  }
+
+  // Cancels the fit and waits for the worker to end (with Cancelled, or its results, unused).
+  void stop() {
+    cancel_ = true;
+    resume();
+    py::gil_scoped_release release;
+    fit_.wait();
+    try {
+      fit_.get();
+    } catch (const std::exception&) {
     }
   }
-}
+
+  py::object on_iteration_;
+  std::atomic<bool> cancel_{false};
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::optional<Iteration> waiting_;
+  bool finished_ = false;
+  std::future<std::vector<FitResult>> fit_;
+};
 
 py::object to_python(const nlohmann::json& json) { return py::module_::import("json").attr("loads")(json.dump()); }
 
@@ -110,7 +171,7 @@ LossKind loss_from(const std::string& name) {
 
 PyFitResults fit(const py::handle& data, const py::handle& models, const std::string& metric, const std::string& loss,
                  double loss_scale, bool per_channel, bool converge, int threads, uint64_t seed,
-                 const py::object& on_result) {
+                 const py::object& on_result, const py::object& on_iteration) {
   py::object holder;
   const PySamples& samples = samples_of(data, holder);
   PyFitResults out;
@@ -127,7 +188,7 @@ PyFitResults fit(const py::handle& data, const py::handle& models, const std::st
   if (out.data->empty()) fail("{}: no samples left to fit (check --max-angle)", out.input_path);
   // One call of the library's fit_models, which shares work between the models (the Lambert
   // baseline, contained models' optima): the results are the CLI's.
-  out.results = fit_interruptibly(list, *out.data, out.options);
+  out.results = InterruptibleFit(list, *out.data, out.options, on_iteration).results();
   if (!on_result.is_none())
     for (const FitResult& result : out.results) on_result(result);
   return out;
@@ -272,8 +333,9 @@ void bind_fit(py::module_& m) {
   m.def("fit", &fit, py::arg("data"), py::arg("models") = "all", py::arg("metric") = "cosine", py::arg("loss") = "none",
         py::arg("loss_scale") = 0.0, py::arg("per_channel") = false, py::arg("converge") = false,
         py::arg("threads") = 0, py::arg("seed") = 1, py::arg("on_result") = py::none(),
+        py::arg("on_iteration") = py::none(),
         R"(fit(data, models="all", metric="cosine", loss="none", loss_scale=0.0, per_channel=False,
-    converge=False, threads=0, seed=1, on_result=None) -> FitResults
+    converge=False, threads=0, seed=1, on_result=None, on_iteration=None) -> FitResults
 
 Fits models to measured samples with the library's fitter, as `brdffit fit` does.
 
@@ -287,13 +349,17 @@ converge     large tables: iterate to convergence on all samples instead of poli
 threads      threads (0: every core). seed: the seed of the fitter's subsample.
 on_result    None, or a callable given each model's FitResult in turn once the fit is done
              (an exception it raises propagates).
+on_iteration None, or a callable given (model name, iteration) after each of the solver's
+             iterations, while the fit waits (a progress display); an exception it raises
+             stops the fit in that iteration and propagates.
 
 Returns FitResults: one FitResult per model (a model that fails to fit is reported with
 status 'failed' and its error; the others are still fitted). Bad options or data raise
 brdffit.Error with the command line's message.
 
-The fit runs without the GIL (other Python threads go on). Ctrl-C stops it within a
-fraction of a second: the call raises KeyboardInterrupt and no result is kept.)");
+The fit runs without the GIL (other Python threads go on). Ctrl-C stops it at the solver's
+next iteration (during a grid search, when the grid ends): the call raises KeyboardInterrupt
+and no result is kept.)");
 
   m.def("score", &score, py::arg("data"), py::arg("model"), py::arg("params") = py::none(),
         R"(score(data, model, params=None) -> dict

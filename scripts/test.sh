@@ -1,37 +1,68 @@
 #!/usr/bin/env bash
-# Installs what is missing, checks the code's format, builds brdffit and runs the whole test suite
-# (ctest, then the Python module's pytest suite); then builds and runs
-# it once more with AddressSanitizer and UndefinedBehaviorSanitizer (skip with --no-sanitize).
+# Installs what is missing, checks the code's format, builds brdffit and runs the test suite
+# (ctest, then the Python module's pytest suite); then builds it with AddressSanitizer and
+# UndefinedBehaviorSanitizer and runs the tests whose code paths differ under them (every test but
+# the numerically heavy ones, tests/CMakeLists.txt; skip with --no-sanitize). At the end: each
+# phase's wall time, the skipped tests and the ten slowest tests. Under CI (CI set to anything but
+# empty) a Python module that was not built, or a skip that tests/allowed_skips.txt does not list,
+# fails the run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-BRDFFIT_WITH_CHROMIUM=1 bash scripts/install-deps.sh
 jobs=$(nproc)
 
-run_suite() {  # build-dir, extra cmake args...
-  local dir=$1; shift
+phases=()
+timed() {  # phase name, command...: runs the command and keeps its wall time
+  local name=$1 start=$SECONDS
+  shift
+  "$@"
+  phases+=("$(printf '%6d s  %s' $((SECONDS - start)) "$name")")
+}
+print_phases() {
+  echo "== wall time per phase"
+  printf '%s\n' "${phases[@]}"
+}
+trap print_phases EXIT
+
+configure_and_build() {  # build-dir, extra cmake args...
+  local dir=$1
+  shift
+  mkdir -p "$dir"
   cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Release "$@" > "$dir.configure.log" 2>&1 || { cat "$dir.configure.log"; exit 1; }
   cmake --build "$dir" -j "$jobs"
-  ctest --test-dir "$dir" --output-on-failure -j "$jobs"
+}
+run_ctest() {  # build-dir: every test it lists, with a JUnit report for the summary
+  ctest --test-dir "$1" --output-on-failure -j "$jobs" --output-junit "$PWD/$1/ctest.junit.xml"
+}
+check_format() {
+  git ls-files '*.cc' '*.h' | xargs clang-format --dry-run --Werror
+  if git ls-files '*.cc' '*.h' | LC_ALL=C.UTF-8 xargs grep -nP '^.{121,}$'; then
+    echo "the lines above are over 120 columns" >&2
+    exit 1
+  fi
 }
 
+timed "dependencies" env BRDFFIT_WITH_CHROMIUM=1 bash scripts/install-deps.sh
 echo "== format: clang-format (.clang-format) and at most 120 columns"
-git ls-files '*.cc' '*.h' | xargs clang-format --dry-run --Werror
-if git ls-files '*.cc' '*.h' | LC_ALL=C.UTF-8 xargs grep -nP '^.{121,}$'; then
-  echo "the lines above are over 120 columns" >&2
-  exit 1
-fi
+timed "format check" check_format
 
-mkdir -p build
-run_suite build
+timed "Release build" configure_and_build build
+timed "Release suite (ctest)" run_ctest build
+reports=("Release suite=build/ctest.junit.xml")
 if [[ -x build/python/pytest.sh ]]; then
   echo "== Python module (pytest python/tests)"
-  build/python/pytest.sh -v
+  timed "Python module (pytest)" build/python/pytest.sh -v --durations=5 --junitxml="$PWD/build/pytest.junit.xml"
+  reports+=("Python module=build/pytest.junit.xml")
+elif [[ -n "${CI:-}" ]]; then
+  echo "== the Python module was not built (see 'Python module' in build.configure.log): CI needs it" >&2
+  exit 1
 else
   echo "== Python module not built (see 'Python module' in build.configure.log): pytest skipped"
 fi
 if [[ "${1:-}" != "--no-sanitize" ]]; then
   echo "== again with AddressSanitizer + UndefinedBehaviorSanitizer"
-  mkdir -p build-asan
-  ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
-    run_suite build-asan -DBRDFFIT_SANITIZE=ON -DBRDFFIT_BUILD_BENCH=OFF -DBRDFFIT_PYTHON=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo
+  timed "sanitizer build" configure_and_build build-asan -DBRDFFIT_SANITIZE=ON -DBRDFFIT_BUILD_BENCH=OFF \
+    -DBRDFFIT_PYTHON=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo
+  ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 timed "sanitizer suite (ctest)" run_ctest build-asan
+  reports+=("sanitizer suite=build-asan/ctest.junit.xml")
 fi
+python3 scripts/test_summary.py tests/allowed_skips.txt "${reports[@]}"

@@ -33,20 +33,23 @@ struct ValueSlot {
 };
 
 // FitOptions::cancel is looked at before and after every grid, coordinate-search pass and solve,
-// and by Ceres at each iteration (CancelAtIteration).
+// and by Ceres at each iteration (AtEachIteration).
 void stop_if_cancelled(const FitOptions& options) {
   if (options.cancel && options.cancel->load()) throw Cancelled();
 }
 
-class CancelAtIteration : public ceres::IterationCallback {
+// FitOptions::on_iteration, then FitOptions::cancel, after each of Ceres' iterations.
+class AtEachIteration : public ceres::IterationCallback {
  public:
-  explicit CancelAtIteration(const std::atomic<bool>* cancel) : cancel_(cancel) {}
-  ceres::CallbackReturnType operator()(const ceres::IterationSummary&) override {
-    return cancel_->load() ? ceres::SOLVER_ABORT : ceres::SOLVER_CONTINUE;
+  AtEachIteration(const std::string& model, const FitOptions& options) : model_(model), options_(options) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
+    if (options_.on_iteration) options_.on_iteration(model_, summary.iteration);
+    return options_.cancel && options_.cancel->load() ? ceres::SOLVER_ABORT : ceres::SOLVER_CONTINUE;
   }
 
  private:
-  const std::atomic<bool>* cancel_;
+  const std::string& model_;
+  const FitOptions& options_;
 };
 
 std::vector<ValueSlot> value_slots(const Model& model) {
@@ -259,8 +262,8 @@ class LeastSquares {
     // costs two more Jacobian evaluations per iteration; the projected trust-region step alone converges.
     solver.max_num_line_search_step_size_iterations = 0;
     solver.logging_type = ceres::SILENT;
-    CancelAtIteration cancel(options_.cancel);
-    if (options_.cancel) solver.callbacks.push_back(&cancel);
+    AtEachIteration at_each_iteration(model_.name(), options_);
+    if (options_.cancel || options_.on_iteration) solver.callbacks.push_back(&at_each_iteration);
     ceres::Solver::Summary summary;
     ceres::Solve(solver, &problem, &summary);
     stop_if_cancelled(options_);

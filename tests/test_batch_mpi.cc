@@ -2,7 +2,6 @@
 // single process writes; a job that died is finished by --resume.
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <nlohmann/json.hpp>
 
 #include "batch_test_util.h"
@@ -25,13 +24,12 @@ std::string mpirun(int ranks) {
 
 // Skips unless brdffit-mpi was built and mpirun runs; under CI (which installs OpenMPI) a build
 // without it is a failure.
-#define SKIP_UNLESS_MPI()                                                                    \
-  do {                                                                                       \
-    const bool in_ci = std::getenv("CI") && std::string(std::getenv("CI")) == "true";        \
-    if (!BRDFFIT_HAVE_MPI || test::run_command("mpirun --version").exit_code != 0) {         \
-      if (in_ci) FAIL() << "CI installs OpenMPI, but brdffit-mpi or mpirun is missing";      \
-      GTEST_SKIP() << "brdffit was built without MPI (libopenmpi-dev) or mpirun is missing"; \
-    }                                                                                        \
+#define SKIP_UNLESS_MPI()                                                                               \
+  do {                                                                                                  \
+    if (!BRDFFIT_HAVE_MPI || test::run_command("mpirun --version").exit_code != 0) {                    \
+      if (test::running_in_ci()) FAIL() << "CI installs OpenMPI, but brdffit-mpi or mpirun is missing"; \
+      GTEST_SKIP() << "brdffit was built without MPI (libopenmpi-dev) or mpirun is missing";            \
+    }                                                                                                   \
   } while (0)
 
 TEST(BatchMpi, ThreeRanksWriteWhatOneProcessWrites) {

@@ -70,14 +70,13 @@ FitResult fit_of(const std::string& model, const std::vector<std::string>& assig
 
 bool have_tool(const std::string& name) { return test::run_command("command -v " + name).exit_code == 0; }
 
-// Skips (outside CI) or fails (CI=true) when an ecosystem's checking tool is missing.
-#define REQUIRE_TOOL(available, what)                                                                             \
-  do {                                                                                                            \
-    if (!(available)) {                                                                                           \
-      const char* ci = std::getenv("CI");                                                                         \
-      if (ci && std::string(ci) == "true") FAIL() << what << " is missing (scripts/install-deps.sh installs it)"; \
-      GTEST_SKIP() << what << " is not installed (scripts/install-deps.sh installs it)";                          \
-    }                                                                                                             \
+// Skips (outside CI) or fails (CI) when an ecosystem's checking tool is missing.
+#define REQUIRE_TOOL(available, what)                                                                   \
+  do {                                                                                                  \
+    if (!(available)) {                                                                                 \
+      if (test::running_in_ci()) FAIL() << what << " is missing (scripts/install-deps.sh installs it)"; \
+      GTEST_SKIP() << what << " is not installed (scripts/install-deps.sh installs it)";                \
+    }                                                                                                   \
   } while (0)
 
 const std::vector<std::string> kGltfSpecular = {

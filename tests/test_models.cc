@@ -2,6 +2,7 @@
 // claims), hand-derived values for the base models, and the models/eval commands.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <limits>
 
 #include <nlohmann/json.hpp>
@@ -229,35 +230,48 @@ std::vector<std::vector<double>> shape_corners(const Model& m) {
   return corners;
 }
 
-TEST(AllModels, NormalisedLobesReflectAtMostOne) {
+std::vector<std::string> energy_conserving_models() {
+  std::vector<std::string> names;
+  for (const auto& m : all_models())
+    if (m->energy_conserving()) names.push_back(m->name());
+  return names;
+}
+
+// One test per model: each is a few million shading evaluations.
+class NormalisedLobes : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(NormalisedLobes, ReflectAtMostOne) {
   // model.h's promise for energy-conserving models: at every corner of the shape parameters
   // (sharpest lobes included: the quadrature resolves them, see above), what remains with every
   // linear parameter at 0 reflects at most 1, and so does each linear parameter's own term (the
   // model is affine in them: its term is the difference made by setting it to its upper bound).
   // A lobe missing its 1/4 or 1/π fails by a factor 4 or π.
-  int checked = 0;
-  for (const auto& m : all_models()) {
-    if (!m->energy_conserving()) continue;
-    SCOPED_TRACE(m->name());
-    for (const std::vector<double>& base : shape_corners(*m))
-      for (double theta_deg : {0.0, 30.0, 60.0, 80.0}) {
-        SCOPED_TRACE(::testing::Message() << "θo " << theta_deg << " at " << ::testing::PrintToString(base));
-        const double t = theta_deg * kPi / 180;
-        const Vec3 v(std::sin(t), 0, std::cos(t));
-        const Rgb<double> rest = directional_albedo(*m, base, v);
-        EXPECT_LE(rest.maxCoeff(), 1.005);
-        for (const ParamSpec& lobe : m->parameters()) {
-          if (!lobe.linear) continue;
-          std::vector<double> values = base;
-          std::fill_n(values.begin() + m->offset_of(lobe.name), lobe.channels, lobe.upper);
-          const Rgb<double> term = directional_albedo(*m, values, v) - rest;
-          EXPECT_LE(term.maxCoeff(), 1.005) << lobe.name;
-          EXPECT_GE(term.minCoeff(), 0.0) << lobe.name;
-          ++checked;
-        }
+  const Model& m = *find_model(GetParam());
+  for (const std::vector<double>& base : shape_corners(m))
+    for (double theta_deg : {0.0, 30.0, 60.0, 80.0}) {
+      SCOPED_TRACE(::testing::Message() << "θo " << theta_deg << " at " << ::testing::PrintToString(base));
+      const double t = theta_deg * kPi / 180;
+      const Vec3 v(std::sin(t), 0, std::cos(t));
+      const Rgb<double> rest = directional_albedo(m, base, v);
+      EXPECT_LE(rest.maxCoeff(), 1.005);
+      for (const ParamSpec& lobe : m.parameters()) {
+        if (!lobe.linear) continue;
+        std::vector<double> values = base;
+        std::fill_n(values.begin() + m.offset_of(lobe.name), lobe.channels, lobe.upper);
+        const Rgb<double> term = directional_albedo(m, values, v) - rest;
+        EXPECT_LE(term.maxCoeff(), 1.005) << lobe.name;
+        EXPECT_GE(term.minCoeff(), 0.0) << lobe.name;
       }
-  }
-  EXPECT_GE(checked, 3 * 4);  // lambert, ggx, ashikhmin-shirley at least
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(EnergyConserving, NormalisedLobes, ::testing::ValuesIn(energy_conserving_models()),
+                         [](const auto& info) { return test::gtest_name(info.param); });
+
+TEST(AllModels, LambertGgxAndAshikhminShirleyPromiseEnergyConservation) {
+  const std::vector<std::string> names = energy_conserving_models();
+  for (const char* name : {"lambert", "ggx", "ashikhmin-shirley"})
+    EXPECT_EQ(std::count(names.begin(), names.end(), name), 1) << name;
 }
 
 TEST(AllModels, LinearParametersEnterAffinely) {

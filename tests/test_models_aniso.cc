@@ -206,38 +206,42 @@ TEST(AnisotropicFit, RecoversWidthsAndRotationFromNoisyCsv) {
     }
 }
 
-// An anisotropic RGL-format file tabulating ggx-aniso, turned to several rotations: the reader
-// evaluates it like the model, samples it over the whole turn of φ, and the fit recovers the
-// frame.
-TEST(AnisotropicFit, RecoversTheFrameFromAnAnisotropicRglFile) {
+// An anisotropic RGL-format file tabulating ggx-aniso, turned to several rotations (one test
+// each): the reader evaluates it like the model, samples it over the whole turn of φ, and the
+// fit recovers the frame.
+class AnisotropicRglFile : public ::testing::TestWithParam<double> {};
+
+TEST_P(AnisotropicRglFile, RecoversTheFrame) {
   const Model& model = *find_model("ggx-aniso");
-  for (double rotation : {20.0, 75.0, 150.0}) {
-    const std::vector<double> truth = test::turned_values(
-        model, {"albedo=0.1", "f0=0.5", "alpha_x=0.15", "alpha_y=0.4"}, "alpha_x", "alpha_y", rotation);
-    const RglBrdf table = RglBrdf::parse(test::tensor_file_bytes(test::anisotropic_rgl_fields(model, truth)),
-                                         "ggx-aniso-" + std::to_string(int(rotation)) + ".bsdf");
-    ASSERT_FALSE(table.isotropic());
-    SamplingOptions sampling;
-    sampling.max_angle_deg = 80;
-    sampling.max_samples = 4000;
-    const SampleSet samples = table.samples(sampling);
-    // Half vectors over the whole turn: every quarter of φh holds about a quarter of them.
-    std::array<int, 4> quarters{};
-    for (const Sample& s : samples.samples) {
-      const Vec3 h = half_vector(s.l, s.v);
-      ++quarters[int(std::floor((std::atan2(h.y(), h.x()) + kPi) / (kPi / 2))) % 4];
-    }
-    for (int q : quarters) EXPECT_NEAR(q / double(samples.size()), 0.25, 0.03);
-    // The table reproduces the model within a few percent where the lobe matters.
-    double error = 0, total = 0;
-    for (const Sample& s : samples.samples) {
-      error += (s.value - model.shade(truth.data(), s.l, s.v)).cwiseAbs().sum();
-      total += s.value.sum();
-    }
-    EXPECT_LT(error / total, 0.02);
-    expect_frame_recovered(model, samples, test::canonical_frame(truth[6], truth[7], truth[8]));
+  const double rotation = GetParam();
+  const std::vector<double> truth = test::turned_values(model, {"albedo=0.1", "f0=0.5", "alpha_x=0.15", "alpha_y=0.4"},
+                                                        "alpha_x", "alpha_y", rotation);
+  const RglBrdf table = RglBrdf::parse(test::tensor_file_bytes(test::anisotropic_rgl_fields(model, truth)),
+                                       "ggx-aniso-" + std::to_string(int(rotation)) + ".bsdf");
+  ASSERT_FALSE(table.isotropic());
+  SamplingOptions sampling;
+  sampling.max_angle_deg = 80;
+  sampling.max_samples = 4000;
+  const SampleSet samples = table.samples(sampling);
+  // Half vectors over the whole turn: every quarter of φh holds about a quarter of them.
+  std::array<int, 4> quarters{};
+  for (const Sample& s : samples.samples) {
+    const Vec3 h = half_vector(s.l, s.v);
+    ++quarters[int(std::floor((std::atan2(h.y(), h.x()) + kPi) / (kPi / 2))) % 4];
   }
+  for (int q : quarters) EXPECT_NEAR(q / double(samples.size()), 0.25, 0.03);
+  // The table reproduces the model within a few percent where the lobe matters.
+  double error = 0, total = 0;
+  for (const Sample& s : samples.samples) {
+    error += (s.value - model.shade(truth.data(), s.l, s.v)).cwiseAbs().sum();
+    total += s.value.sum();
+  }
+  EXPECT_LT(error / total, 0.02);
+  expect_frame_recovered(model, samples, test::canonical_frame(truth[6], truth[7], truth[8]));
 }
+
+INSTANTIATE_TEST_SUITE_P(AnisotropicFit, AnisotropicRglFile, ::testing::Values(20.0, 75.0, 150.0),
+                         [](const auto& info) { return std::to_string(int(info.param)) + "deg"; });
 
 }  // namespace
 }  // namespace brdffit

@@ -7,7 +7,6 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <functional>
 #include <limits>
@@ -221,12 +220,11 @@ TEST(LowModels, AutodiffMatchesFiniteDifferencesAndIsReciprocal) {
   }
 }
 
-// Skips when the shared data is absent, but fails under CI=true (where it must be present).
+// Skips when the shared data is absent, but fails under CI (where it must be present).
 bool shared_fits_present(std::string& dir) {
   dir = std::string(BRDFFIT_SHARED_DIR) + "/reference/published-fits";
   if (std::filesystem::exists(dir)) return true;
-  const char* ci = std::getenv("CI");
-  if (ci && std::string(ci) == "true") ADD_FAILURE() << dir << " is absent under CI";
+  if (test::running_in_ci()) ADD_FAILURE() << dir << " is absent under CI";
   return false;
 }
 

@@ -499,7 +499,7 @@ TEST(Diligent, GgxReproducesTheRealPhotographsBetterThanLambert) {
   SKIP_WITHOUT_DILIGENT();
   SphereInput input;
   add_diligent_folder(kDiligentBall, input);
-  input.max_gathered = 300000;  // a coarser pixel grid: the same fit, a test's time
+  input.max_gathered = 100000;  // a coarser pixel grid: the same fit, a test's time
   const SphereObservation observation = observe_sphere(input);
   EXPECT_LT(observation.normals->median_deg, 2.0);
   FitOptions options;

@@ -73,21 +73,22 @@ inline std::string gtest_name(std::string name) {
   return name;
 }
 
-// Whether this is a CI run (CI=true): there ../shared is always present, so a test that needs it
-// fails instead of skipping (a missing mount must not pass as green).
+// Whether this is a CI run (CI set to anything but empty, as CI services set it: true, 1, yes):
+// there ../shared and every tool scripts/install-deps.sh installs are present, so a test that
+// needs them fails instead of skipping (a missing mount must not pass as green).
 inline bool running_in_ci() {
   const char* ci = std::getenv("CI");
-  return ci && std::string(ci) == "true";
+  return ci && *ci;
 }
 
 // Skips the test when data beside the project (../shared) is absent, saying what is missing;
-// fails under CI=true. `what` may be a stream expression: "the MERL proxies (" << dir << ")".
-#define SKIP_UNLESS_SHARED(present, what)                                                             \
-  do {                                                                                                \
-    if (!(present)) {                                                                                 \
-      if (::brdffit::test::running_in_ci()) FAIL() << what << " absent, and CI=true needs ../shared"; \
-      GTEST_SKIP() << what << " absent (the shared data beside the project is not mounted)";          \
-    }                                                                                                 \
+// fails under CI. `what` may be a stream expression: "the MERL proxies (" << dir << ")".
+#define SKIP_UNLESS_SHARED(present, what)                                                        \
+  do {                                                                                           \
+    if (!(present)) {                                                                            \
+      if (::brdffit::test::running_in_ci()) FAIL() << what << " absent, and CI needs ../shared"; \
+      GTEST_SKIP() << what << " absent (the shared data beside the project is not mounted)";     \
+    }                                                                                            \
   } while (0)
 
 // Samples of `model` at `values` over random direction pairs with both z >= min_z, each value

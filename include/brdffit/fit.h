@@ -42,6 +42,11 @@ struct FitOptions {
   // Set to true by another thread to stop the fit: fit_models then throws Cancelled within one
   // solver iteration or grid (a fraction of a second). Null: the fit runs to its end.
   const std::atomic<bool>* cancel = nullptr;
+  // Called after each trust-region iteration (Ceres counts the start as iteration 0) with the
+  // name of the model being fitted, which may be a model the requested one contains. `cancel`
+  // is looked at right after it returns: set there, no further iteration runs (it must not
+  // throw through the solver; set `cancel` to stop). Empty: nothing is called.
+  std::function<void(const std::string& model, int iteration)> on_iteration;
   // Called before each requested model's fit with its index, the number of models and its name
   // (the command line's progress). Empty: nothing is called.
   std::function<void(size_t index, size_t count, const std::string& model)> on_model_start;
