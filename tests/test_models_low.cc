@@ -220,17 +220,11 @@ TEST(LowModels, AutodiffMatchesFiniteDifferencesAndIsReciprocal) {
   }
 }
 
-// Skips when the shared data is absent, but fails under CI (where it must be present).
-bool shared_fits_present(std::string& dir) {
-  dir = std::string(BRDFFIT_SHARED_DIR) + "/reference/published-fits";
-  if (std::filesystem::exists(dir)) return true;
-  if (test::running_in_ci()) ADD_FAILURE() << dir << " is absent under CI";
-  return false;
-}
+// The published fits bundled with the project (data/published-fits: BBM's files, with its licence).
+const std::string kPublishedFits = std::string(BRDFFIT_SOURCE_DIR) + "/data/published-fits";
 
 TEST(LowModels, PublishedParametersReproduceIndependentValues) {
-  std::string fits;
-  if (!shared_fits_present(fits)) GTEST_SKIP() << "../shared/reference/published-fits is absent";
+  const std::string& fits = kPublishedFits;
   // low_cooktorrance_E2.fit, blue-acrylic: Lambertian [0.0162, 0.0399, 0.109],
   // LowCookTorrance(albedo = [0.06877, 0.06156, 0.05938], roughness = 0.01082, eta = 1.29353).
   // At l = v = n: f = albedo/π + albedo_s·F(η, 1)/(π m²).
@@ -263,8 +257,7 @@ TEST(LowModels, PublishedParametersReproduceIndependentValues) {
 }
 
 TEST(LowModels, EveryPublishedLineOfTheirFilesMaps) {
-  std::string fits;
-  if (!shared_fits_present(fits)) GTEST_SKIP() << "../shared/reference/published-fits is absent";
+  const std::string& fits = kPublishedFits;
   const std::vector<std::pair<const char*, const char*>> files = {
       {"low-smooth", "low_lowsmooth_E2.fit"},
       {"low-microfacet", "low_lowmicrofacet_E2.fit"},
