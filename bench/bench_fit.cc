@@ -1,11 +1,14 @@
 // Fit speed and memory: fits models to a measured table (or to synthetic samples of a model)
-// and prints wall time per model, the error, and the process's peak resident memory.
+// and prints per model the wall and CPU seconds (CPU is what a shared machine cannot inflate), the CPU
+// time as a multiple of ggx's in the same run (when ggx is among the models), the error, and the process's
+// peak resident memory.
 //
 //   bench_fit TABLE [--models ggx,...|all] [--threads N] [--polish N | --converge]
 //   bench_fit --synthetic N [--models ...]      (N samples of ggx at fixed parameters)
 #include <sys/resource.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <random>
 
@@ -16,6 +19,12 @@
 using namespace brdffit;
 
 namespace {
+
+double cpu_seconds() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_utime.tv_sec + usage.ru_stime.tv_sec + 1e-6 * (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+}
 
 double peak_rss_mb() {
   rusage usage{};
@@ -85,18 +94,24 @@ int main(int argc, char** argv) {
         list.push_back(m);
       }
     }
-    double total = 0.0;
+    double total = 0.0, ggx_cpu = 0.0;
+    // ggx first, so every other model's ratio to it can be printed.
+    std::stable_partition(list.begin(), list.end(), [](const Model* m) { return m->name() == "ggx"; });
     options.threads = threads;
     options.polish_iterations = polish;
     if (converge) options.polish_after = SIZE_MAX;
     for (const Model* m : list) {
       const auto start = std::chrono::steady_clock::now();
+      const double cpu_start = cpu_seconds();
       if (!start_values.empty()) options.initial_values = parameter_values(*m, start_values);
       const FitResult fit = fit_model(*m, data, options);
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const double cpu = cpu_seconds() - cpu_start;
       total += seconds;
-      fmt::print("{:<18} {:>7.3f} s  cosine {:.5g}  log {:.5g}  iterations {:>3}  {}\n", m->name(), seconds,
-                 fit.metrics.cosine, fit.metrics.log, fit.iterations, fit.ok ? "ok" : fit.error);
+      if (m->name() == "ggx") ggx_cpu = cpu;
+      const std::string ratio = ggx_cpu > 0 ? fmt::format("{:5.1f}x ggx", cpu / ggx_cpu) : "";
+      fmt::print("{:<18} {:>7.3f} s  cpu {:>7.3f} s {}  cosine {:.5g}  log {:.5g}  iterations {:>3}  {}\n", m->name(),
+                 seconds, cpu, ratio, fit.metrics.cosine, fit.metrics.log, fit.iterations, fit.ok ? "ok" : fit.error);
     }
     fmt::print("total fit time {:.2f} s; peak memory {:.0f} MB\n", total, peak_rss_mb());
   } catch (const Error& e) {

@@ -49,18 +49,19 @@ Eigen::VectorXd solve_box_quadratic(const Eigen::MatrixXd& a, const Eigen::Vecto
   return best;
 }
 
-void solve_linear(const Model& model, std::vector<double>& values, const std::vector<Sample>& samples, Metric metric,
-                  const Channels& channels) {
+double solve_linear(const Model& model, std::vector<double>& values, const std::vector<Sample>& samples, Metric metric,
+                    const Channels& channels) {
   std::vector<const ParamSpec*> linear;
   for (const ParamSpec& p : model.parameters())
     if (p.linear) linear.push_back(&p);
-  if (linear.empty()) return;
+  if (linear.empty()) return NAN;
   const int m = static_cast<int>(linear.size());
 
   std::vector<double> probe = values;
   for (const ParamSpec* p : linear) std::fill_n(probe.begin() + model.offset_of(p->name), 3, 0.0);
   std::array<Eigen::MatrixXd, 3> a;
   std::array<Eigen::VectorXd, 3> b;
+  std::array<double, 3> target_squares{0.0, 0.0, 0.0};  // Σ w·target², for the cost at the solution
   for (int c = 0; c < 3; ++c) {
     a[c] = Eigen::MatrixXd::Zero(m, m);
     b[c] = Eigen::VectorXd::Zero(m);
@@ -80,6 +81,7 @@ void solve_linear(const Model& model, std::vector<double>& values, const std::ve
       if (metric == Metric::Relative) w /= std::pow(std::fabs(s.value[c]) + kRelativeEpsilon, 2);
       if (metric == Metric::Log) w /= std::pow(1.0 + std::max(s.value[c], 0.0), 2);
       const double target = s.value[c] - base[c];
+      target_squares[c] += w * target * target;
       for (int i = 0; i < m; ++i) {
         b[c][i] += w * basis[i][c] * target;
         for (int j = 0; j < m; ++j) a[c](i, j) += w * basis[i][c] * basis[j][c];
@@ -91,11 +93,17 @@ void solve_linear(const Model& model, std::vector<double>& values, const std::ve
     lower[j] = linear[j]->lower;
     upper[j] = linear[j]->upper;
   }
+  // Σ w·(target − basis·x)² = xᵀAx − 2bᵀx + Σ w·target², summed over the fitted channels.
+  double cost = 0.0;
   for (int c = 0; c < 3; ++c) {
     if (!channels[c]) continue;
     const Eigen::VectorXd x = solve_box_quadratic(a[c], b[c], lower, upper);
     for (int j = 0; j < m; ++j) values[model.offset_of(linear[j]->name) + c] = x[j];
+    cost += x.dot(a[c] * x) - 2.0 * b[c].dot(x) + target_squares[c];
   }
+  // The log metric's weights only linearise it: its cost is not this quadratic.
+  if (metric == Metric::Log) return NAN;
+  return std::isfinite(cost) ? std::max(cost, 0.0) : HUGE_VAL;
 }
 
 }  // namespace brdffit

@@ -2,6 +2,9 @@
 // parameters solved exactly from data baked with known values.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
+#include "brdffit/fit_objective.h"
 #include "brdffit/model.h"
 #include "brdffit/variable_projection.h"
 #include "test_util.h"
@@ -73,6 +76,29 @@ TEST(SolveLinear, ClampsToTheBoundsAndLeavesUnfittedChannelsAlone) {
   EXPECT_DOUBLE_EQ(values[0], 1.0);
   EXPECT_DOUBLE_EQ(values[1], 0.123);
   EXPECT_NEAR(values[2], 0.6, 1e-9);
+}
+
+TEST(SolveLinear, ReturnsTheCostAtItsSolutionFromTheNormalEquations) {
+  // Noisy Blinn-Phong away from its true gloss, one channel clamped at its bound and one not
+  // fitted: the returned objective is what a separate pass over the samples (cost_of) finds at
+  // the solved values, for every metric whose residual is affine in the prediction.
+  const Model& model = *find_model("blinn-phong");
+  std::vector<double> truth = with(model, model.default_values(), "albedo", {0.99, 0.5, 0.8});
+  truth = with(model, truth, "specular", {0.3, 0.1, 0.05});
+  SampleSet data = test::model_table(model, truth, 400, 0.05, 11, 0.05);
+  for (Sample& s : data.samples) s.value[0] *= 1.3;
+  const Channels channels{true, true, false};
+  for (Metric metric : {Metric::Cosine, Metric::Relative, Metric::L2}) {
+    SCOPED_TRACE(metric_name(metric));
+    std::vector<double> values = truth;
+    values[model.offset_of("gloss")] *= 1.7;
+    const double cost = solve_linear(model, values, data.samples, metric, channels);
+    const double expected = cost_of(model, values, data.samples, metric, channels, nullptr);
+    EXPECT_GT(expected, 0.0);
+    EXPECT_NEAR(cost, expected, 1e-9 * expected);
+  }
+  std::vector<double> values = truth;
+  EXPECT_TRUE(std::isnan(solve_linear(model, values, data.samples, Metric::Log, channels)));
 }
 
 }  // namespace

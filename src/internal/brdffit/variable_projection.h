@@ -20,7 +20,10 @@ Eigen::VectorXd solve_box_quadratic(const Eigen::MatrixXd& a, const Eigen::Vecto
 // optimum within their bounds, the other values held. The prediction is affine in them:
 // shade_c = base_c + Σ_j x_jc · basis_jc. For the relative and log metrics each residual is
 // weighted by its first-order sensitivity, so the solve matches the metric near the data.
-void solve_linear(const Model& model, std::vector<double>& values, const std::vector<Sample>& samples, Metric metric,
-                  const Channels& channels);
+// Returns the objective at the solution, Σ r² as cost_of counts it without a loss, from the
+// normal equations (no second pass over the samples); NaN for the log metric (not quadratic in
+// the prediction) and for a model without linear parameters.
+double solve_linear(const Model& model, std::vector<double>& values, const std::vector<Sample>& samples, Metric metric,
+                    const Channels& channels);
 
 }  // namespace brdffit
