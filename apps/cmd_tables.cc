@@ -25,16 +25,16 @@ void run_info(const std::string& path, bool json) {
                           {"min", json_array(info.min)},
                           {"max", json_array(info.max)},
                           {"albedo", info.albedo.allFinite() ? json_array(info.albedo) : nlohmann::json(nullptr)}};
-    fmt::print("{}\n", out.dump());
+    say("{}\n", json_text(out));
     return;
   }
-  fmt::print("{}\n  format      {}\n  resolution  {}\n  valid       {}\n  invalid     {}\n", path, info.format,
-             info.resolution, info.valid, info.invalid);
-  fmt::print("  min f       {:.6g} {:.6g} {:.6g} (1/sr)\n  max f       {:.6g} {:.6g} {:.6g} (1/sr)\n", info.min[0],
-             info.min[1], info.min[2], info.max[0], info.max[1], info.max[2]);
+  say("{}\n  format      {}\n  resolution  {}\n  valid       {}\n  invalid     {}\n", path, info.format,
+      info.resolution, info.valid, info.invalid);
+  say("  min f       {:.6g} {:.6g} {:.6g} (1/sr)\n  max f       {:.6g} {:.6g} {:.6g} (1/sr)\n", info.min[0],
+      info.min[1], info.min[2], info.max[0], info.max[1], info.max[2]);
   if (info.albedo.allFinite())
-    fmt::print("  albedo      {:.6g} {:.6g} {:.6g} (directional, normal incidence)\n", info.albedo[0], info.albedo[1],
-               info.albedo[2]);
+    say("  albedo      {:.6g} {:.6g} {:.6g} (directional, normal incidence)\n", info.albedo[0], info.albedo[1],
+        info.albedo[2]);
 }
 
 struct LookupArgs {
@@ -56,9 +56,9 @@ void run_lookup(const LookupArgs& args) {
     f = table->eval(l, v);
   }
   if (args.json)
-    fmt::print("{}\n", nlohmann::json({{"brdf", json_array(f)}}).dump());
+    say("{}\n", json_text(nlohmann::json({{"brdf", json_array(f)}})));
   else
-    fmt::print("brdf {:.9g} {:.9g} {:.9g}\n", f[0], f[1], f[2]);
+    say("brdf {:.9g} {:.9g} {:.9g}\n", f[0], f[1], f[2]);
 }
 
 struct BakeArgs {
@@ -75,7 +75,7 @@ void run_bake(const BakeArgs& args) {
     if (const auto f = model->brdf(values.data(), l, v)) return *f;
     return model->shade(values.data(), l, v) / l.z();
   });
-  fmt::print("wrote {} ({} as a 90x90x180 MERL table)\n", args.out, model->name());
+  say("wrote {} ({} as a 90x90x180 MERL table)\n", args.out, model->name());
 }
 
 }  // namespace

@@ -105,6 +105,12 @@ namespace brdffit {
 // wrong number of components or a value outside the parameter's bounds.
 std::vector<double> parameter_values(const Model& model, const std::vector<std::string>& assignments);
 
+// The one check of given parameter values, wherever they come from (--param, a published .fit
+// file): throws Error starting with `where` unless x lies within the parameter's bounds (NaN
+// never does) and is whole for an integer parameter; the second checks a model's whole vector.
+void check_parameter_value(const ParamSpec& spec, double x, const std::string& where);
+void check_parameter_values(const Model& model, const std::vector<double>& values, const std::string& where);
+
 // Parses "x,y,z" into a vector; throws Error naming `what` when malformed or non-finite.
 Vec3 parse_vec3(const std::string& text, const std::string& what);
 
