@@ -258,14 +258,15 @@ std::optional<std::vector<double>> to_model_values(const Model& model, const std
 
 namespace {
 
-// Checked against the model's bounds as --param values are: a denormal or negative width
-// would score as NaN or infinity.
+// Checked as --param values are, against the lower bounds (see check_parameter_values): a
+// denormal or negative width would score as NaN or infinity.
 PublishedFit published_fit(const std::string& fit_file, const std::string& material, const Model& model,
                            const std::vector<PublishedTerm>& terms, std::vector<double> values) {
   std::string term;
   for (const PublishedTerm& t : terms)
     if (t.model != "Lambertian") term = t.model;
-  check_parameter_values(model, values, fmt::format("{}: {} ({} as {})", fit_file, material, term, model.name()));
+  check_parameter_values(model, values, fmt::format("{}: {} ({} as {})", fit_file, material, term, model.name()),
+                         BoundsCheck::AtLeastLower);
   return PublishedFit{material, model.name(), term, std::move(values)};
 }
 
