@@ -16,9 +16,25 @@
 
 namespace brdffit::cli {
 
+// Everything the commands print goes through say(): the text, whatever built it, escaped by
+// printable() (error.h), so that control characters in a file's contents or name (import
+// warnings, the compare table, progress, echoed names) never reach the terminal as such.
+template <class... Args>
+void say(std::FILE* out, fmt::format_string<Args...> format, Args&&... args) {
+  fmt::print(out, "{}", printable(fmt::format(format, std::forward<Args>(args)...)));
+}
+template <class... Args>
+void say(fmt::format_string<Args...> format, Args&&... args) {
+  say(stdout, format, std::forward<Args>(args)...);
+}
+
+// The terminal control that starts a progress line over the last one: the only text printed
+// without say().
+inline void rewind_line() { std::fputs("\r\033[K", stderr); }
+
 // An old spelling still works, with this note on stderr.
 inline void deprecated(const std::string& old_spelling, const std::string& new_spelling) {
-  fmt::print(stderr, "brdffit: note: {} is deprecated; use {}\n", old_spelling, new_spelling);
+  say(stderr, "brdffit: note: {} is deprecated; use {}\n", old_spelling, new_spelling);
 }
 
 // -m/--models NAME[,NAME...]: the one way every command names models; a command that takes one
@@ -70,7 +86,7 @@ class ModelProgress {
   }
 
   void clear() {
-    if (drawn_) fmt::print(stderr, "\r\033[K");
+    if (drawn_) rewind_line();
     drawn_ = false;
   }
 
@@ -81,7 +97,8 @@ class ModelProgress {
     const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
     // Models differ in cost by a factor of a hundred: the ETA is the rate so far, no more.
     const std::string eta = index > 0 ? ", ETA " + duration_text(elapsed / index * (count - index)) : "";
-    fmt::print(stderr, "\r\033[K[{}/{}] fitting {}  {}{}", index + 1, count, model, duration_text(elapsed), eta);
+    rewind_line();
+    say(stderr, "[{}/{}] fitting {}  {}{}", index + 1, count, model, duration_text(elapsed), eta);
     std::fflush(stderr);
     drawn_ = true;
   }

@@ -22,6 +22,7 @@
 #include "brdffit/error.h"
 #include "brdffit/io.h"
 #include "brdffit/material_export.h"
+#include "brdffit/result_json.h"
 #include "cli_common.h"
 #include "commands.h"
 #include "fit_options.h"
@@ -72,7 +73,7 @@ class BatchProgress {
       for (const std::string& warning : fit.warnings)
         line += fmt::format("\n    {} {}: warning: {}", o.material.name, fit.model, warning);
     clear_bar();
-    fmt::print(stderr, "{}\n", line);
+    say(stderr, "{}\n", line);
     draw_bar();
   }
 
@@ -93,7 +94,7 @@ class BatchProgress {
   double eta() const { return fitting_seconds_ / fitted() * (total_ - done_); }
 
   void clear_bar() {
-    if (terminal_) fmt::print(stderr, "\r\033[K");
+    if (terminal_) rewind_line();
   }
 
   void draw_bar() {
@@ -103,9 +104,10 @@ class BatchProgress {
     std::string running;
     for (const std::string& name : running_) running += (running.empty() ? "" : ", ") + name;
     if (running.size() > 40) running = running.substr(0, 37) + "...";
-    fmt::print(stderr, "\r\033[K[{}{}] {}/{}  failed {}  {}{}  {}", std::string(filled, '#'),
-               std::string(kWidth - filled, '-'), done_, total_, failed_, duration_text(elapsed()),
-               fitted() > 0 && done_ < total_ ? ", ETA " + duration_text(eta()) : std::string(), running);
+    rewind_line();
+    say(stderr, "[{}{}] {}/{}  failed {}  {}{}  {}", std::string(filled, '#'), std::string(kWidth - filled, '-'), done_,
+        total_, failed_, duration_text(elapsed()),
+        fitted() > 0 && done_ < total_ ? ", ETA " + duration_text(eta()) : std::string(), running);
     std::fflush(stderr);
   }
 
@@ -182,23 +184,23 @@ void run_batch_command(const BatchArgs& args) {
 #endif
   // Held until the summary is written; the shards of one batch each hold their own.
   std::optional<OutputFolderLock> lock;
-  if (prints) lock.emplace(args.out, shard ? shard_lock_name(*shard) : OutputFolderLock::kLockName);
+  if (prints && shard)
+    lock.emplace(args.out, shard->index, shard->count);
+  else if (prints)
+    lock.emplace(args.out);
   if (shard) {
     const size_t all = materials.size();
     materials = shard_materials(materials, *shard);
-    fmt::print("batch: shard {}/{}: {} of {}\n", shard->index, shard->count, materials.size(),
-               count_of(all, "material"));
+    say("batch: shard {}/{}: {} of {}\n", shard->index, shard->count, materials.size(), count_of(all, "material"));
   }
 #ifdef BRDFFIT_MPI_BATCH
   if (prints)
-    fmt::print("batch: {} x {} over {} MPI ranks, one material at a time each; results in {}\n",
-               count_of(materials.size(), "material"), count_of(options.models.size(), "model"), ranks.size() - 1,
-               args.out);
+    say("batch: {} x {} over {} MPI ranks, one material at a time each; results in {}\n",
+        count_of(materials.size(), "material"), count_of(options.models.size(), "model"), ranks.size() - 1, args.out);
 #else
   const BatchPlan plan = plan_batch(options, materials.size());
-  fmt::print("batch: {} x {}, {} at a time with {} threads each; results in {}\n",
-             count_of(materials.size(), "material"), count_of(options.models.size(), "model"), plan.jobs, plan.threads,
-             args.out);
+  say("batch: {} x {}, {} at a time with {} threads each; results in {}\n", count_of(materials.size(), "material"),
+      count_of(options.models.size(), "model"), plan.jobs, plan.threads, args.out);
 #endif
   std::fflush(stdout);
 
@@ -222,15 +224,16 @@ void run_batch_command(const BatchArgs& args) {
   const fs::path out(args.out);
   // A shard's summary would hide the others': the merge step writes the batch's.
   if (!shard) {
-    write_file_atomic((out / "summary.json").string(), batch_summary_json(outcomes, options, seconds).dump(2) + "\n");
+    write_file_atomic((out / "summary.json").string(),
+                      json_text(batch_summary_json(outcomes, options, seconds), 2) + "\n");
     write_file_atomic((out / "summary.csv").string(), batch_summary_csv(outcomes, options));
   }
   const OutcomeCounts counts = count_outcomes(outcomes);
   const size_t failed = counts.failed, partial = counts.partial;
-  fmt::print("batch: {} in {}: {} ok ({} already done), {} partly fitted, {} failed; {}\n",
-             count_of(outcomes.size(), "material"), duration_text(seconds), counts.ok, counts.resumed, partial, failed,
-             shard ? "summary by `brdffit batch ... --merge` once every shard is done"
-                   : "summary in " + (out / "summary.csv").string());
+  say("batch: {} in {}: {} ok ({} already done), {} partly fitted, {} failed; {}\n",
+      count_of(outcomes.size(), "material"), duration_text(seconds), counts.ok, counts.resumed, partial, failed,
+      shard ? "summary by `brdffit batch ... --merge` once every shard is done"
+            : "summary in " + (out / "summary.csv").string());
   if (failed + partial > 0)
     fail("{} of {} materials failed and {} were only partly fitted (see {})", failed, outcomes.size(), partial,
          shard ? "the lines above" : (out / "summary.json").string());
@@ -249,9 +252,9 @@ void run_compare(const CompareArgs& args) {
   const Metric metric = args.metric.empty() ? common_metric(documents) : metric_from(args.metric);
   const Comparison comparison = compare_results(documents, metric);
   if (args.json)
-    fmt::print("{}\n", comparison_json(comparison).dump(2));
+    say("{}\n", json_text(comparison_json(comparison), 2));
   else
-    fmt::print("{}", comparison_text(comparison));
+    say("{}", comparison_text(comparison));
   if (!args.csv.empty()) write_file_atomic(args.csv, comparison_csv(comparison));
   if (!args.markdown.empty()) write_file_atomic(args.markdown, comparison_markdown(comparison));
 }
@@ -268,7 +271,7 @@ void run_export(const ExportArgs& args) {
   request.force = args.force;
   check_outputs({args.result}, {args.out});
   const MaterialExport exported = export_material(read_fit_document(args.result), request);
-  for (const std::string& warning : exported.warnings) fmt::print(stderr, "warning: {}\n", warning);
+  for (const std::string& warning : exported.warnings) say(stderr, "warning: {}\n", warning);
   write_file_atomic(args.out, exported.text);
   const Model& model = *find_model(exported.material.model);
   std::string values;
@@ -279,14 +282,12 @@ void run_export(const ExportArgs& args) {
     values += " " + p.name + "=" + format_values(value, "{:.4g}");
     offset += p.channels;
   }
-  fmt::print("wrote {}: the {} material{}\n", args.out, model.name(), values);
+  say("wrote {}: the {} material{}\n", args.out, model.name(), values);
   if (!exported.converted) {
-    fmt::print("  the {} fit unchanged ({} error {:.4g})\n", exported.source_model, exported.metric,
-               exported.fit_error);
+    say("  the {} fit unchanged ({} error {:.4g})\n", exported.source_model, exported.metric, exported.fit_error);
     return;
   }
-  fmt::print(
-      "  converted from the {} fit ({} error {:.4g}); on the original data, all samples: converted {:.4g}, "
+  say("  converted from the {} fit ({} error {:.4g}); on the original data, all samples: converted {:.4g}, "
       "the {} fit {:.4g}\n",
       exported.source_model, exported.metric, exported.fit_error, exported.converted_error, exported.source_model,
       exported.source_error_on_data);

@@ -30,22 +30,22 @@ void print_ranking(const std::vector<FitResult>& results, Metric metric) {
   });
   // typical (how far off a typical sample is, relative to its value) is the column behind most
   // poor verdicts: it explains a poor fit ranked above a good one.
-  fmt::print("{:>4}  {:<18} {:<7} {:>10} {:>10} {:>10} {:>10} {:>10} {:>8} {:>6} {:>8}\n", "rank", "model", "verdict",
-             "cosine", "log", "relative", "l2", "max", "typical", "iters", "seconds");
+  say("{:>4}  {:<18} {:<7} {:>10} {:>10} {:>10} {:>10} {:>10} {:>8} {:>6} {:>8}\n", "rank", "model", "verdict", "cosine",
+      "log", "relative", "l2", "max", "typical", "iters", "seconds");
   int rank = 0;
   for (const FitResult* r : order) {
     if (!r->ok) {
-      fmt::print("{:>4}  {:<18} failed: {}\n", "-", r->model, r->error);
+      say("{:>4}  {:<18} failed: {}\n", "-", r->model, r->error);
       continue;
     }
     const Metrics& m = r->metrics;
-    fmt::print("{:>4}  {:<18} {:<7} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g} {:>8.3g} {:>6} {:>8.2f}\n",
-               ++rank, r->model, verdict_name(r->verdict), m.cosine, m.log, m.relative, m.l2, m.max, m.typical,
-               r->iterations, r->seconds);
-    fmt::print("      {}\n", format_parameters(*r));
+    say("{:>4}  {:<18} {:<7} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g} {:>8.3g} {:>6} {:>8.2f}\n", ++rank,
+        r->model, verdict_name(r->verdict), m.cosine, m.log, m.relative, m.l2, m.max, m.typical, r->iterations,
+        r->seconds);
+    say("      {}\n", format_parameters(*r));
     print_warnings(*r, "      ");
   }
-  fmt::print("ranked by the {} metric\n", metric_name(metric));
+  say("ranked by the {} metric\n", metric_name(metric));
 }
 
 // One row per model: status, verdict and metrics, then for every parameter of any model in the
@@ -114,17 +114,17 @@ void run_fit(const FitArgs& args) {
   const std::vector<const Model*> models = parse_model_list(args.models);
   const SampleSet data = load_samples(args.data, args.sampling.options());
   if (data.empty()) fail("{}: no samples left to fit (check --max-angle)", args.data);
-  if (!args.json) fmt::print("{}: {} samples ({} weights)\n", args.data, data.size(), data.weighting);
+  if (!args.json) say("{}: {} samples ({} weights)\n", args.data, data.size(), data.weighting);
 
   ModelProgress progress;
   progress.attach(options);
   const std::vector<FitResult> results = fit_models(models, data, options);
   progress.clear();
   const std::string document = args.json || !args.out.empty()
-                                   ? fit_document_json(args.data, data, options, results).dump(2) + "\n"
+                                   ? json_text(fit_document_json(args.data, data, options, results), 2) + "\n"
                                    : std::string();
   if (args.json)
-    fmt::print("{}", document);
+    say("{}", document);
   else
     print_ranking(results, options.metric);
   // Outputs only once every model is done, each whole or not at all.
@@ -165,11 +165,11 @@ void run_score_published(const ScoreArgs& args, const SampleSet& data) {
                      {"values", fit.values},
                      {"metrics", metrics_json(m)}});
     } else {
-      fmt::print("{} ({} of {} in {}) on {} ({} samples, {} weights)\n{}\n", fit.model, fit.term, material,
-                 args.published, args.data, data.size(), data.weighting, metrics_line(m));
+      say("{} ({} of {} in {}) on {} ({} samples, {} weights)\n{}\n", fit.model, fit.term, material, args.published,
+          args.data, data.size(), data.weighting, metrics_line(m));
     }
   }
-  if (args.json) fmt::print("{}\n", out.dump());
+  if (args.json) say("{}\n", json_text(out));
 }
 
 void run_score(const ScoreArgs& args) {
@@ -189,7 +189,7 @@ void run_score(const ScoreArgs& args) {
   } else if (!args.material.empty()) {
     std::vector<std::string> warnings;
     const Material material = material_for_scoring(args.material, args.name, args.model, warnings);
-    for (const std::string& warning : warnings) fmt::print(stderr, "warning: {}\n", warning);
+    for (const std::string& warning : warnings) say(stderr, "warning: {}\n", warning);
     model = find_model(material.model);
     values = material.values;
   } else {
@@ -201,10 +201,10 @@ void run_score(const ScoreArgs& args) {
   if (!model) return run_score_published(args, data);
   const Metrics m = evaluate_metrics(*model, values, data);
   if (args.json) {
-    fmt::print("{}\n", nlohmann::json{{"metrics", metrics_json(m)}}.dump());
+    say("{}\n", json_text(nlohmann::json{{"metrics", metrics_json(m)}}));
     return;
   }
-  fmt::print("{} on {} ({} samples)\n{}\n", model->name(), args.data, data.size(), metrics_line(m));
+  say("{} on {} ({} samples)\n{}\n", model->name(), args.data, data.size(), metrics_line(m));
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 
 #include "brdffit/error.h"
 #include "brdffit/model.h"
+#include "brdffit/result_json.h"
 #include "cli_common.h"
 #include "commands.h"
 
@@ -35,17 +36,16 @@ void print_models(bool json) {
   if (json) {
     nlohmann::json list = nlohmann::json::array();
     for (const auto& m : all_models()) list.push_back(model_json(*m));
-    fmt::print("{}\n", list.dump(2));
+    say("{}\n", json_text(list, 2));
     return;
   }
   for (const auto& m : all_models()) {
-    fmt::print("{:<18} {}\n", m->name(), m->summary());
+    say("{:<18} {}\n", m->name(), m->summary());
     for (const ParamSpec& p : m->parameters())
-      fmt::print("    {:<14} {:<5} [{:g}, {:g}] default {:g}  {}\n", p.name,
-                 p.channels == 3 ? "rgb" : (p.integer ? "int" : ""), p.lower, p.upper, p.default_value, p.meaning);
+      say("    {:<14} {:<5} [{:g}, {:g}] default {:g}  {}\n", p.name,
+          p.channels == 3 ? "rgb" : (p.integer ? "int" : ""), p.lower, p.upper, p.default_value, p.meaning);
   }
-  fmt::print(
-      "\nTwo specular lobes over one Lambert base: FIRST+SECOND (e.g. --models ggx+ggx, cook-torrance+cook-torrance,\n"
+  say("\nTwo specular lobes over one Lambert base: FIRST+SECOND (e.g. --models ggx+ggx, cook-torrance+cook-torrance,\n"
       "ggx+beckmann) with any two models above that are a lobe over albedo/π. The second lobe's parameters\n"
       "take the suffix _2 (roughness_2); a weight_2 scales it when its own scale cannot switch it off.\n"
       "`brdffit eval -m ggx+ggx --param roughness_2=0.1 ...` works as for any model. 'all' is the list above.\n");
@@ -70,11 +70,11 @@ void run_eval(const EvalArgs& args) {
   if (args.json) {
     nlohmann::json out = {{"model", model->name()}, {"shade", {shade[0], shade[1], shade[2]}}, {"brdf", nullptr}};
     if (brdf) out["brdf"] = {(*brdf)[0], (*brdf)[1], (*brdf)[2]};
-    fmt::print("{}\n", out.dump());
+    say("{}\n", json_text(out));
     return;
   }
-  fmt::print("shade {:.9g} {:.9g} {:.9g}\n", shade[0], shade[1], shade[2]);
-  if (brdf) fmt::print("brdf  {:.9g} {:.9g} {:.9g}\n", (*brdf)[0], (*brdf)[1], (*brdf)[2]);
+  say("shade {:.9g} {:.9g} {:.9g}\n", shade[0], shade[1], shade[2]);
+  if (brdf) say("brdf  {:.9g} {:.9g} {:.9g}\n", (*brdf)[0], (*brdf)[1], (*brdf)[2]);
 }
 
 }  // namespace

@@ -81,13 +81,13 @@ void run_render(const RenderArgs& args) {
   }
   if (stores_linear_values(args.out)) {
     write_image(args.out, sphere, Encoding::Float);
-    fmt::print("wrote {} ({}, {}x{} linear f·cosθi)\n", args.out, what, args.size, args.size);
+    say("wrote {} ({}, {}x{} linear f·cosθi)\n", args.out, what, args.size, args.size);
     return;
   }
   if (!(reference > 0.0)) reference = tone_reference(sphere, mask);
   write_image(args.out, tone_map(sphere, reference), Encoding::Srgb8);
-  fmt::print("wrote {} ({}, {}x{}, tone reference {:.6g}: {})\n", args.out, what, args.size, args.size, reference,
-             reference_from);
+  say("wrote {} ({}, {}x{}, tone reference {:.6g}: {})\n", args.out, what, args.size, args.size, reference,
+      reference_from);
 }
 
 struct ReportArgs {
@@ -109,11 +109,11 @@ void run_report(const ReportArgs& args) {
   options.top = args.top;
   options.sphere_size = args.size;
   options.progress = [](size_t index, size_t count, const std::string& material) {
-    fmt::print(stderr, "[{}/{}] {}\n", index + 1, count, material);
+    say(stderr, "[{}/{}] {}\n", index + 1, count, material);
   };
   const std::string page = report_html(documents, options);
   write_file_atomic(args.out, page);
-  fmt::print("wrote {} ({}, {:.1f} MB)\n", args.out, count_of(documents.size(), "material"), page.size() / 1e6);
+  say("wrote {} ({}, {:.1f} MB)\n", args.out, count_of(documents.size(), "material"), page.size() / 1e6);
 }
 
 }  // namespace

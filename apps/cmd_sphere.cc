@@ -11,6 +11,7 @@
 #include "brdffit/error.h"
 #include "brdffit/image_io.h"
 #include "brdffit/io.h"
+#include "brdffit/result_json.h"
 #include "brdffit/sphere_fit.h"
 #include "cli_common.h"
 #include "commands.h"
@@ -88,25 +89,24 @@ std::string input_path(const SphereArgs& args) {
 void print_observation(const SphereObservation& o) {
   const Circle& c = o.sphere.outline();
   const Camera& camera = o.sphere.camera();
-  fmt::print("sphere: centre ({:.2f}, {:.2f}), radius {:.2f} px, {} camera; located by {}\n", c.x, c.y, c.radius,
-             camera.perspective() ? fmt::format("perspective (focal {:g} px)", camera.focal_px) : "orthographic",
-             o.located_by);
+  say("sphere: centre ({:.2f}, {:.2f}), radius {:.2f} px, {} camera; located by {}\n", c.x, c.y, c.radius,
+      camera.perspective() ? fmt::format("perspective (focal {:g} px)", camera.focal_px) : "orthographic",
+      o.located_by);
   if (const auto& n = o.normals)
-    fmt::print("normals: against {}: median {:.2f}°, 90th percentile {:.2f}° over {} pixels\n", n->file, n->median_deg,
-               n->p90_deg, n->pixels);
+    say("normals: against {}: median {:.2f}°, 90th percentile {:.2f}° over {} pixels\n", n->file, n->median_deg,
+        n->p90_deg, n->pixels);
   if (o.chrome_ball) {
     const Circle& b = o.chrome_ball->outline();
-    fmt::print("lights: {} estimated on the chrome ball at ({:.2f}, {:.2f}), radius {:.2f} px\n", o.images.size(), b.x,
-               b.y, b.radius);
+    say("lights: {} estimated on the chrome ball at ({:.2f}, {:.2f}), radius {:.2f} px\n", o.images.size(), b.x, b.y,
+        b.radius);
   } else {
-    fmt::print("lights: {} from {}\n", o.images.size(), o.lights_from);
+    say("lights: {} from {}\n", o.images.size(), o.lights_from);
   }
-  fmt::print("intensities: {}; exposures: {}\n",
-             o.intensities_known ? "given" : fmt::format("unknown, values divided by {:.4g}", o.intensity_scale),
-             o.exposures_from);
+  say("intensities: {}; exposures: {}\n",
+      o.intensities_known ? "given" : fmt::format("unknown, values divided by {:.4g}", o.intensity_scale),
+      o.exposures_from);
   const PixelCounts& p = o.pixels;
-  fmt::print(
-      "pixels: {} on the sphere x {} images = {}: {} used, {} in shadow, {} grazing, {} saturated, {} too dark\n",
+  say("pixels: {} on the sphere x {} images = {}: {} used, {} in shadow, {} grazing, {} saturated, {} too dark\n",
       o.sphere_pixels, o.images.size(), p.total(), p.used, p.shadow, p.grazing, p.saturated, p.dark);
 }
 
@@ -119,15 +119,15 @@ void print_results(const std::vector<FitResult>& fits, const std::vector<PhotoEr
   const auto error_of = [&](const FitResult* f) { return f->ok ? image_error[f->model] : HUGE_VAL; };
   std::stable_sort(order.begin(), order.end(),
                    [&](const FitResult* a, const FitResult* b) { return error_of(a) < error_of(b); });
-  fmt::print("{:<16} {:<7} {:>14} {:>10} {:>8}  parameters\n", "model", "verdict", "image rel. RMS",
-             metric_name(metric), "seconds");
+  say("{:<16} {:<7} {:>14} {:>10} {:>8}  parameters\n", "model", "verdict", "image rel. RMS", metric_name(metric),
+      "seconds");
   for (const FitResult* f : order) {
     if (!f->ok) {
-      fmt::print("{:<16} failed: {}\n", f->model, f->error);
+      say("{:<16} failed: {}\n", f->model, f->error);
       continue;
     }
-    fmt::print("{:<16} {:<7} {:>14.4f} {:>10.4g} {:>8.1f}  {}\n", f->model, verdict_name(f->verdict), error_of(f),
-               f->metrics.get(metric), f->seconds, format_parameters(*f));
+    say("{:<16} {:<7} {:>14.4f} {:>10.4g} {:>8.1f}  {}\n", f->model, verdict_name(f->verdict), error_of(f),
+        f->metrics.get(metric), f->seconds, format_parameters(*f));
     print_warnings(*f, "    ");
   }
 }
@@ -139,31 +139,34 @@ void run_sphere(const SphereArgs& args) {
     fail("--images-format: png or exr, not '{}'", args.images_format);
   const std::vector<const Model*> models = parse_model_list(args.models);
   const SphereInput input = sphere_input(args);
-  check_outputs(sphere_input_files(input), {args.out});  // before the work, not after it
+  const PanelOutput panels{args.images_out, args.images_format};
+  std::vector<std::string> outputs = panel_paths(panels, input, models);
+  outputs.push_back(args.out);
+  check_outputs(sphere_input_files(input), outputs);  // before the work, not after it
 
   const SphereObservation observation = observe_sphere(input);
   if (!args.json) print_observation(observation);
   SampleSet fitted = observation.samples;
   apply_sampling_options(fitted, SamplingOptions{90.0, args.max_samples, args.seed});
   if (!args.json)
-    fmt::print("fitting {} of {} samples ({} loss)\n", fitted.size(), observation.samples.size(),
-               args.loss == "none" ? "no robust" : args.loss);
+    say("fitting {} of {} samples ({} loss)\n", fitted.size(), observation.samples.size(),
+        args.loss == "none" ? "no robust" : args.loss);
 
   ModelProgress progress;
   progress.attach(options);
   const std::vector<FitResult> fits = fit_models(models, fitted, options);
   progress.clear();
-  const std::vector<PhotoError> errors =
-      compare_with_photographs(observation, input, fits, PanelOutput{args.images_out, args.images_format});
+  const std::vector<PhotoError> errors = compare_with_photographs(observation, input, fits, panels);
   const std::string document =
       args.json || !args.out.empty()
-          ? sphere_document_json(input_path(args), input, observation, fitted, options, fits, errors).dump(2) + "\n"
+          ? json_text(sphere_document_json(input_path(args), input, observation, fitted, options, fits, errors), 2) +
+                "\n"
           : std::string();
   if (args.json) {
-    fmt::print("{}", document);
+    say("{}", document);
   } else {
     print_results(fits, errors, options.metric);
-    if (!args.images_out.empty()) fmt::print("images: measured | fit | error in {}/<model>/\n", args.images_out);
+    if (!args.images_out.empty()) say("images: measured | fit | error in {}/<model>/\n", args.images_out);
   }
   if (!args.out.empty()) write_file_atomic(args.out, document);
   if (std::none_of(fits.begin(), fits.end(), [](const FitResult& f) { return f.ok; }))
@@ -188,10 +191,10 @@ void run_capture(const CaptureArgs& args) {
     }
     write_file_atomic(args.response, csv);
   }
-  fmt::print("{}: {} frames{}; wrote {} ({}x{})\n", args.options.source, result.frames,
-             result.response.empty() ? ", one exposure (decoded as sRGB)"
-                                     : fmt::format(", {} exposures merged (Debevec)", args.options.exposures.size()),
-             args.out, result.image.cols, result.image.rows);
+  say("{}: {} frames{}; wrote {} ({}x{})\n", args.options.source, result.frames,
+      result.response.empty() ? ", one exposure (decoded as sRGB)"
+                              : fmt::format(", {} exposures merged (Debevec)", args.options.exposures.size()),
+      args.out, result.image.cols, result.image.rows);
 }
 
 }  // namespace

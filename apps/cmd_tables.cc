@@ -42,27 +42,27 @@ void run_info(const std::string& path, bool json) {
       out["anisotropy"] = number(info.anisotropy);
     }
     out["warnings"] = info.warnings;
-    fmt::print("{}\n", out.dump());
+    say("{}\n", json_text(out));
     return;
   }
-  fmt::print("{}\n  format      {}\n  resolution  {}\n  valid       {}\n  invalid     {}\n", path, info.format,
+  say("{}\n  format      {}\n  resolution  {}\n  valid       {}\n  invalid     {}\n", path, info.format,
              info.resolution, info.valid, info.invalid);
   if (info.valid > 0)
-    fmt::print("  zero        {} ({:.1f}% of the valid entries)\n", info.zero, 100.0 * info.zero / info.valid);
-  fmt::print("  min f       {:.6g} {:.6g} {:.6g} (1/sr)\n  max f       {:.6g} {:.6g} {:.6g} (1/sr)\n", info.min[0],
+    say("  zero        {} ({:.1f}% of the valid entries)\n", info.zero, 100.0 * info.zero / info.valid);
+  say("  min f       {:.6g} {:.6g} {:.6g} (1/sr)\n  max f       {:.6g} {:.6g} {:.6g} (1/sr)\n", info.min[0],
              info.min[1], info.min[2], info.max[0], info.max[1], info.max[2]);
   if (info.albedo.allFinite())
-    fmt::print("  albedo      {:.6g} {:.6g} {:.6g} (directional, normal incidence)\n", info.albedo[0], info.albedo[1],
+    say("  albedo      {:.6g} {:.6g} {:.6g} (directional, normal incidence)\n", info.albedo[0], info.albedo[1],
                info.albedo[2]);
   if (checked) {
     for (const TableInfo::AlbedoAt& a : info.albedo_by_incidence)
-      fmt::print("  albedo {:>2g}°  {:.4g} {:.4g} {:.4g}\n", a.theta_deg, a.albedo[0], a.albedo[1], a.albedo[2]);
-    fmt::print("  reciprocity {:.3g} (median |ln f(l,v)/f(v,l)|; share of ln(cosθv/cosθl) in it {:.2f})\n",
+      say("  albedo {:>2g}°  {:.4g} {:.4g} {:.4g}\n", a.theta_deg, a.albedo[0], a.albedo[1], a.albedo[2]);
+    say("  reciprocity {:.3g} (median |ln f(l,v)/f(v,l)|; share of ln(cosθv/cosθl) in it {:.2f})\n",
                info.reciprocity, info.reciprocity_cosine_share);
-    fmt::print("  isotropic   {} (by its {}; turning about the normal changes f by {:.3g})\n",
+    say("  isotropic   {} (by its {}; turning about the normal changes f by {:.3g})\n",
                info.isotropic ? "yes" : "no", info.isotropy, info.anisotropy);
   }
-  for (const std::string& warning : info.warnings) fmt::print("  warning: {}\n", warning);
+  for (const std::string& warning : info.warnings) say("  warning: {}\n", warning);
 }
 
 struct LookupArgs {
@@ -84,9 +84,9 @@ void run_lookup(const LookupArgs& args) {
     f = table->eval(l, v);
   }
   if (args.json)
-    fmt::print("{}\n", nlohmann::json({{"brdf", json_array(f)}}).dump());
+    say("{}\n", json_text(nlohmann::json({{"brdf", json_array(f)}})));
   else
-    fmt::print("brdf {:.9g} {:.9g} {:.9g}\n", f[0], f[1], f[2]);
+    say("brdf {:.9g} {:.9g} {:.9g}\n", f[0], f[1], f[2]);
 }
 
 struct BakeArgs {
@@ -103,7 +103,7 @@ void run_bake(const BakeArgs& args) {
     if (const auto f = model->brdf(values.data(), l, v)) return *f;
     return model->shade(values.data(), l, v) / l.z();
   });
-  fmt::print("wrote {} ({} as a 90x90x180 MERL table)\n", args.out, model->name());
+  say("wrote {} ({} as a 90x90x180 MERL table)\n", args.out, model->name());
 }
 
 }  // namespace

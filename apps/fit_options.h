@@ -83,7 +83,7 @@ inline std::string format_parameters(const FitResult& r) {
 
 // The result's warning lines (verdict, bounds, identifiability), each on its own indented line.
 inline void print_warnings(const FitResult& r, const char* indent) {
-  for (const std::string& w : r.warnings) fmt::print("{}warning: {}\n", indent, w);
+  for (const std::string& w : r.warnings) say("{}warning: {}\n", indent, w);
 }
 
 inline Metric metric_from(const std::string& name) {

@@ -18,13 +18,14 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);  // --help, --version
-    fmt::print(stderr, "brdffit: error: {}\n(brdffit help COMMAND lists a command's options)\n", e.what());
+    fmt::print(stderr, "brdffit: error: {}\n(brdffit help COMMAND lists a command's options)\n",
+               brdffit::printable(e.what()));
     return e.get_exit_code();
   } catch (const brdffit::Error& e) {
     fmt::print(stderr, "brdffit: error: {}\n", e.what());
     return 1;
   } catch (const std::exception& e) {
-    fmt::print(stderr, "brdffit: internal error: {}\n", e.what());
+    fmt::print(stderr, "brdffit: internal error: {}\n", brdffit::printable(e.what()));
     return 2;
   }
   return 0;

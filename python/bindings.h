@@ -55,6 +55,8 @@ ModelValues values_from(const Model& model, const py::handle& params);
 
 // A str or os.PathLike (pathlib.Path) as a path.
 std::string path_from(const py::handle& path);
+// A path brdffit holds (bytes) as Python gives names: os.fsdecode, so any name round-trips.
+py::object os_path(const std::string& path);
 
 // Unit directions from an (N, 3) or (3,) array; `what` names the argument in messages.
 // Throws Error for a wrong shape, a non-finite component or a zero vector.

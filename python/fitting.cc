@@ -121,7 +121,7 @@ class InterruptibleFit {
   std::future<std::vector<FitResult>> fit_;
 };
 
-py::object to_python(const nlohmann::json& json) { return py::module_::import("json").attr("loads")(json.dump()); }
+py::object to_python(const nlohmann::json& json) { return py::module_::import("json").attr("loads")(json_text(json)); }
 
 // One value as a float, three as a tuple.
 py::object value_or_tuple(const std::vector<double>& xs) {
@@ -312,14 +312,19 @@ void bind_fit(py::module_& m) {
           "samples", [](const PyFitResults& r) { return r.data->size(); }, "Samples fitted.")
       .def_property_readonly(
           "weighting", [](const PyFitResults& r) { return r.data->weighting; }, "Their weighting.")
-      .def_readonly("input", &PyFitResults::input_path, "The table's path, or the samples' source.")
+      .def_property_readonly(
+          "input", [](const PyFitResults& r) { return os_path(r.input_path); },
+          "The table's path, or the samples' source (a name that is not UTF-8 decoded as os.fsdecode does).")
       .def(
           "document", [](const PyFitResults& r) { return to_python(r.document()); },
           "document() -> dict\n\nThe whole result document, as `brdffit fit --out` writes it.")
       .def(
           "save",
           [](const PyFitResults& r, const py::handle& path) {
-            write_file_atomic(path_from(path), r.document().dump(2) + "\n");
+            // The check every writer makes: never over the table the results came from.
+            const std::string out = path_from(path);
+            check_outputs({r.input_path}, {out});
+            write_file_atomic(out, json_text(r.document(), 2) + "\n");
           },
           py::arg("path"),
           "save(path): writes the result document (JSON) whole or not at all, for brdffit report,\n"
@@ -327,7 +332,7 @@ void bind_fit(py::module_& m) {
       .def("__repr__", [](const PyFitResults& r) {
         const FitResult* best = best_of(r);
         return fmt::format("<brdffit.FitResults {} models on {} ({} samples), best: {}>", r.results.size(),
-                           r.input_path, r.data->size(), best ? best->model : "none");
+                           printable(r.input_path), r.data->size(), best ? best->model : "none");
       });
 
   m.def("fit", &fit, py::arg("data"), py::arg("models") = "all", py::arg("metric") = "cosine", py::arg("loss") = "none",

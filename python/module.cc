@@ -107,8 +107,12 @@ ModelValues values_from(const Model& model, const py::handle& params) {
 }
 
 std::string path_from(const py::handle& path) {
-  return py::cast<std::string>(py::module_::import("os").attr("fspath")(path));
+  // A name's bytes, as the file system holds them: os.fsencode undoes what os.fsdecode (and so
+  // os.listdir) made of a name that is not UTF-8.
+  return py::cast<std::string>(py::module_::import("os").attr("fsencode")(path));
 }
+
+py::object os_path(const std::string& path) { return py::module_::import("os").attr("fsdecode")(py::bytes(path)); }
 
 std::vector<Vec3> directions_from(const DoubleArray& array, const char* what) {
   const bool single = array.ndim() == 1 && array.shape(0) == 3;

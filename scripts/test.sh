@@ -64,5 +64,7 @@ if [[ "${1:-}" != "--no-sanitize" ]]; then
     -DBRDFFIT_PYTHON=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo
   ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 timed "sanitizer suite (ctest)" run_ctest build-asan
   reports+=("sanitizer suite=build-asan/ctest.junit.xml")
+  ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 timed "fuzz corpora (replay)" \
+    bash scripts/fuzz-replay.sh build-asan
 fi
 python3 scripts/test_summary.py tests/allowed_skips.txt "${reports[@]}"

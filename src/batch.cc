@@ -18,6 +18,7 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "brdffit/error.h"
@@ -188,8 +189,8 @@ MaterialOutcome process_material(const BatchMaterial& material, const BatchOptio
       if (data.empty()) fail("{}: no samples left to fit (check --max-angle)", material.path);
       outcome.fits = fit_models(options.models, data, fit);
       nlohmann::json document = fit_document_json(material.path, data, fit, outcome.fits);
-      document["material"] = material.name;
-      write_file_atomic(result_path, document.dump(2) + "\n");
+      put_name(document, "material", material.name);
+      write_file_atomic(result_path, json_text(document, 2) + "\n");
       outcome.result_path = result_path;
       outcome.error = failed_models(outcome.fits);
       outcome.status = outcome.error.empty() ? MaterialStatus::Ok : MaterialStatus::Partial;
@@ -252,39 +253,109 @@ long lock_owner(const std::string& path) {
 
 bool process_alive(long pid) { return pid > 0 && (::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM); }
 
+// The lock file's bytes, each a lock of its own (open-file-description locks: released when the
+// process ends, however it ends, so a killed batch leaves nothing to clean up):
+//   byte 0              the folder: a whole-folder run locks it for writing, every shard for reading;
+//   byte 1 + N          shards of N lock it for reading; a shard refuses to start while any other
+//                       of these bytes is locked (shards of another N are running);
+//   byte 2 + kMax + K   shard K locks it for writing: the same shard never runs twice at once.
+constexpr off_t kFolderByte = 0;
+off_t shard_count_byte(int count) { return 1 + count; }
+off_t shard_byte(int index) { return 2 + OutputFolderLock::kMaxShards + index; }
+
+// Takes (without waiting) a read or write lock on `length` bytes from `start`; false when
+// another holder's lock is in the way.
+bool lock_bytes(int fd, short type, off_t start, off_t length) {
+  struct flock lock {};
+  lock.l_type = type;
+  lock.l_whence = SEEK_SET;
+  lock.l_start = start;
+  lock.l_len = length;
+  if (::fcntl(fd, F_OFD_SETLK, &lock) == 0) return true;
+  if (errno == EAGAIN || errno == EACCES) return false;
+  fail("cannot lock the batch's lock file: {}", std::strerror(errno));
+}
+
+// Whether another holder has any lock on `length` bytes from `start`.
+bool bytes_locked(int fd, off_t start, off_t length) {
+  if (length <= 0) return false;
+  struct flock lock {};
+  lock.l_type = F_WRLCK;
+  lock.l_whence = SEEK_SET;
+  lock.l_start = start;
+  lock.l_len = length;
+  if (::fcntl(fd, F_OFD_GETLK, &lock) != 0) fail("cannot test the batch's lock file: {}", std::strerror(errno));
+  return lock.l_type != F_UNLCK;
+}
+
 }  // namespace
 
-OutputFolderLock::OutputFolderLock(const std::string& folder, const std::string& lock_name) {
+OutputFolderLock::OutputFolderLock(const std::string& folder) : OutputFolderLock(folder, -1, 0) {}
+
+OutputFolderLock::OutputFolderLock(const std::string& folder, int shard_index, int shard_count) {
+  const bool shard = shard_count > 0;
+  if (shard && (shard_count > kMaxShards || shard_index < 0 || shard_index >= shard_count))
+    fail("shard {}/{}: not a shard of at most {} (0 <= K < N)", shard_index, shard_count, kMaxShards);
   std::error_code error;
   fs::create_directories(folder, error);
   if (error || !fs::is_directory(folder))
     fail("{}: cannot create the output folder{}", folder, error ? ": " + error.message() : "");
-  path_ = (fs::path(folder) / lock_name).string();
-  for (int attempt = 0; attempt < 2; ++attempt) {
-    const int fd = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
-    if (fd >= 0) {
-      const std::string pid = std::to_string(::getpid()) + "\n";
-      const bool written = ::write(fd, pid.data(), pid.size()) == static_cast<ssize_t>(pid.size());
-      ::close(fd);
-      if (!written) {
-        ::unlink(path_.c_str());
-        fail("{}: cannot write the lock file", path_);
+  path_ = (fs::path(folder) / kLockName).string();
+  const auto refuse = [&](const std::string& who) {
+    fail("{}: {} is writing into this folder; wait for it to finish, or choose another --out", folder, who);
+  };
+  // A holder that is releasing may unlink the file between our open and our lock: the lock is
+  // only ours when the name still leads to the file we locked.
+  for (int attempt = 0; attempt < 8; ++attempt) {
+    fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0644);
+    if (fd_ < 0) fail("{}: cannot create the lock file: {}", path_, std::strerror(errno));
+    std::string busy;
+    if (!shard) {
+      if (!lock_bytes(fd_, F_WRLCK, kFolderByte, 1)) {
+        const long owner = lock_owner(path_);
+        busy = process_alive(owner) ? fmt::format("another batch (pid {})", owner) : "another batch (shards)";
+      }
+    } else if (!lock_bytes(fd_, F_RDLCK, kFolderByte, 1)) {
+      busy = fmt::format("another batch (pid {})", lock_owner(path_));
+    } else if (!lock_bytes(fd_, F_RDLCK, shard_count_byte(shard_count), 1) ||
+               bytes_locked(fd_, shard_count_byte(1), shard_count - 1) ||
+               bytes_locked(fd_, shard_count_byte(shard_count + 1), kMaxShards - shard_count)) {
+      busy = fmt::format("a batch in shards of another number than {}", shard_count);
+    } else if (!lock_bytes(fd_, F_WRLCK, shard_byte(shard_index), 1)) {
+      busy = fmt::format("another batch (shard {}/{})", shard_index, shard_count);
+    }
+    if (!busy.empty()) {
+      ::close(fd_);
+      fd_ = -1;
+      refuse(busy);
+    }
+    struct stat held, named;
+    if (::fstat(fd_, &held) == 0 && ::lstat(path_.c_str(), &named) == 0 && held.st_dev == named.st_dev &&
+        held.st_ino == named.st_ino) {
+      if (!shard) {  // who holds the folder, for the message another batch gets
+        const std::string pid = std::to_string(::getpid()) + "\n";
+        if (::ftruncate(fd_, 0) != 0 || ::pwrite(fd_, pid.data(), pid.size(), 0) != static_cast<ssize_t>(pid.size()))
+          fail("{}: cannot write the lock file: {}", path_, std::strerror(errno));
       }
       return;
     }
-    if (errno != EEXIST) fail("{}: cannot create the lock file: {}", path_, std::strerror(errno));
-    const long owner = lock_owner(path_);
-    if (process_alive(owner))
-      fail(
-          "{}: another batch (pid {}) is writing into this folder; wait for it to finish, or choose another --out "
-          "(if no batch runs, remove {})",
-          folder, owner, path_);
-    ::unlink(path_.c_str());  // its owner is gone (killed): the folder is free
+    ::close(fd_);
+    fd_ = -1;
   }
   fail("{}: cannot take the lock file {}", folder, path_);
 }
 
-OutputFolderLock::~OutputFolderLock() { ::unlink(path_.c_str()); }
+OutputFolderLock::~OutputFolderLock() {
+  // The last holder removes the file: when no other process holds any of its bytes.
+  if (fd_ < 0) return;
+  if (lock_bytes(fd_, F_WRLCK, 0, 0)) {
+    struct stat held, named;
+    if (::fstat(fd_, &held) == 0 && ::lstat(path_.c_str(), &named) == 0 && held.st_dev == named.st_dev &&
+        held.st_ino == named.st_ino)
+      ::unlink(path_.c_str());
+  }
+  ::close(fd_);
+}
 
 std::vector<MaterialOutcome> run_batch(const std::vector<BatchMaterial>& materials, const BatchOptions& options,
                                        const BatchEvents& events) {
@@ -356,15 +427,19 @@ nlohmann::json batch_summary_json(const std::vector<MaterialOutcome>& outcomes, 
     for (const Model* model : options.models)
       errors[model->name()] = number_or_null(fitted_error(o, model->name(), metric));
     const FitResult* best = best_result(o.fits, metric);
-    materials.push_back({{"material", o.material.name},
-                         {"input", o.material.path},
-                         {"result", o.result_path.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.result_path)},
-                         {"status", material_status_name(o.status)},
-                         {"resumed", o.resumed},
-                         {"error", o.error.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.error)},
-                         {"seconds", o.seconds},
-                         {"best_model", best ? nlohmann::json(best->model) : nlohmann::json(nullptr)},
-                         {"errors", errors}});
+    nlohmann::json material = {{"status", material_status_name(o.status)},
+                               {"resumed", o.resumed},
+                               {"error", o.error.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.error)},
+                               {"seconds", o.seconds},
+                               {"best_model", best ? nlohmann::json(best->model) : nlohmann::json(nullptr)},
+                               {"errors", errors}};
+    put_name(material, "material", o.material.name);
+    put_name(material, "input", o.material.path);
+    if (o.result_path.empty())
+      material["result"] = nullptr;
+    else
+      put_name(material, "result", o.result_path);
+    materials.push_back(std::move(material));
   }
   const OutcomeCounts counts = count_outcomes(outcomes);
   return {{"schema", 1},

@@ -28,13 +28,13 @@ constexpr int kNoMoreWork = -1;
 // A worker's report of one material (JSON text), and its request for the next: the first
 // request carries no report.
 std::string report_of(int index, const MaterialOutcome& o) {
-  return nlohmann::json{{"index", index},
-                        {"status", material_status_name(o.status)},
-                        {"resumed", o.resumed},
-                        {"error", o.error},
-                        {"result_path", o.result_path},
-                        {"seconds", o.seconds}}
-      .dump();
+  nlohmann::json report = {{"index", index},
+                           {"status", material_status_name(o.status)},
+                           {"resumed", o.resumed},
+                           {"error", o.error},
+                           {"seconds", o.seconds}};
+  put_name(report, "result_path", o.result_path);  // read back by rank 0: byte for byte
+  return json_text(report);
 }
 
 // The outcome rank 0 keeps for a report: the models' results read back from the document the
@@ -48,7 +48,7 @@ MaterialOutcome outcome_of(const nlohmann::json& report, const BatchMaterial& ma
                                    : MaterialStatus::Failed;
   o.resumed = report.at("resumed").get<bool>();
   o.error = report.at("error").get<std::string>();
-  o.result_path = report.at("result_path").get<std::string>();
+  o.result_path = get_name(report, "result_path", "MPI report").value_or("");
   o.seconds = report.at("seconds").get<double>();
   if (o.status == MaterialStatus::Failed) return o;
   try {

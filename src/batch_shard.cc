@@ -70,13 +70,11 @@ Shard parse_shard(const std::string& text, const EnvironmentLookup& environment)
       index = *k;
     }
   }
+  if (count > OutputFolderLock::kMaxShards)
+    fail("--shard '{}': {} shards, more than the limit of {}", text, count, OutputFolderLock::kMaxShards);
   if (index < 0 || index >= count)
     fail("--shard '{}': shard {} does not exist among {} (0 <= K < N)", text, index, count);
   return {static_cast<int>(index), static_cast<int>(count)};
-}
-
-std::string shard_lock_name(const Shard& shard) {
-  return ".brdffit-batch.shard-" + std::to_string(shard.index) + "-of-" + std::to_string(shard.count) + ".lock";
 }
 
 std::vector<BatchMaterial> shard_materials(const std::vector<BatchMaterial>& materials, const Shard& shard) {
@@ -89,7 +87,9 @@ std::vector<BatchMaterial> shard_materials(const std::vector<BatchMaterial>& mat
   std::vector<size_t> order(materials.size());
   std::iota(order.begin(), order.end(), size_t{0});
   std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return sizes[a] > sizes[b]; });
-  std::vector<uintmax_t> load(shard.count, 0);
+  // Greedy to the least loaded, first of equals: with N shards for M < N materials, material k
+  // (largest first) goes to shard k, and shards M and above stay empty; only min(N, M) are kept.
+  std::vector<uintmax_t> load(std::min<size_t>(static_cast<size_t>(shard.count), materials.size()), 0);
   std::vector<bool> mine(materials.size(), false);
   for (size_t i : order) {
     const size_t lightest = std::min_element(load.begin(), load.end()) - load.begin();  // first of equals

@@ -85,18 +85,31 @@ void set_max_image_pixels(uint64_t pixels) { max_image_pixels = pixels; }
 
 uint64_t get_max_image_pixels() { return max_image_pixels; }
 
+uint64_t max_image_bytes() {
+  const uint64_t per_pixel = kMaxBudgetChannels * sizeof(float), pixels = max_image_pixels;
+  return pixels > UINT64_MAX / per_pixel ? UINT64_MAX : pixels * per_pixel;
+}
+
 cv::Mat read_image(const std::string& path, const Decoding& decoding) {
   const std::unique_ptr<OIIO::ImageInput> in = open_image(path);
   const OIIO::ImageSpec& spec = in->spec();
   const int channels = spec.nchannels;
-  // Checked on the header, before the pixels are allocated (4 bytes per channel and pixel).
+  // Checked on the header, before the pixels are allocated: the pixels, and the bytes they
+  // decode to (a float per channel), so that 64 channels cannot ask for 16 times the memory.
   const uint64_t pixels =
       static_cast<uint64_t>(std::max(spec.width, 0)) * static_cast<uint64_t>(std::max(spec.height, 0));
   if (pixels > max_image_pixels)
     fail("{}: {}x{} pixels, more than the limit of {} pixels (raise it with --max-pixels)", path, spec.width,
          spec.height, max_image_pixels.load());
   if (spec.depth > 1 || channels < 1 || channels > 64) fail("{}: not a 2D image with 1 to 64 channels", path);
+  const uint64_t bytes = pixels * static_cast<uint64_t>(channels) * sizeof(float);
+  if (bytes > max_image_bytes())
+    fail(
+        "{}: {}x{} pixels of {} channels decode to {} bytes, more than the limit of {} bytes ({} pixels of {} "
+        "channels; raise it with --max-pixels)",
+        path, spec.width, spec.height, channels, bytes, max_image_bytes(), max_image_pixels.load(), kMaxBudgetChannels);
   OIIO::ImageBuf file(OIIO::ImageSpec(spec.width, spec.height, channels, OIIO::TypeDesc::FLOAT));
+  if (!file.localpixels()) fail("{}: cannot allocate {} bytes for the pixels", path, bytes);
   if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, file.localpixels()))
     fail("{}: cannot read image: {}", path, in->geterror());
   // Grey (with or without alpha) is spread over R, G, B; alpha and further channels are dropped.

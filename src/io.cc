@@ -56,24 +56,97 @@ bool write_all(int fd, const std::string& contents) {
 
 namespace {
 
-// The one way brdffit replaces a file: `fill` writes the temporary file (open as fd, named tmp)
-// and returns an error message, empty on success; the file is then renamed over `path`.
+// How an output is written, decided by what its path finally names (links followed).
+enum class OutputKind { Replace, WriteThrough };
+
+bool is_null_device(const struct stat& info) {
+  struct stat null;
+  return S_ISCHR(info.st_mode) && ::stat("/dev/null", &null) == 0 && null.st_rdev == info.st_rdev;
+}
+
+// Whether `path` is a symbolic link that leads, directly or through other links, into /proc: a
+// descriptor of this process (/dev/stdout → /proc/self/fd/1), whatever the descriptor is open on.
+bool is_descriptor_link(const std::string& path) {
+  std::string at = path;
+  for (int hop = 0; hop < 40; ++hop) {
+    std::error_code error;
+    if (!fs::is_symlink(at, error)) return false;
+    const fs::path target = fs::read_symlink(at, error);
+    if (error) return false;
+    at = (target.is_absolute() ? target : fs::path(at).parent_path() / target).lexically_normal().string();
+    if (at.rfind("/proc/", 0) == 0) return true;
+  }
+  return false;
+}
+
+// Replace: a regular file, a link to one, or nothing yet; WriteThrough: a pipe, a socket, a
+// terminal or /dev/null, reached directly or through links, and whatever a descriptor link
+// (`--csv /dev/stdout`) leads to: written into (appended to), never renamed over. Anything else
+// (a folder, a disk, another device) is refused: renaming over a device node would swap a system
+// file for ours, and writing into one could do worse.
+OutputKind output_kind(const std::string& path) {
+  struct stat info;
+  if (::stat(path.c_str(), &info) != 0) return OutputKind::Replace;
+  if (S_ISREG(info.st_mode)) return is_descriptor_link(path) ? OutputKind::WriteThrough : OutputKind::Replace;
+  if (S_ISFIFO(info.st_mode) || S_ISSOCK(info.st_mode) || is_null_device(info)) return OutputKind::WriteThrough;
+  if (S_ISCHR(info.st_mode)) {
+    const int fd = ::open(path.c_str(), O_WRONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
+    const bool terminal = fd >= 0 && ::isatty(fd);
+    if (fd >= 0) ::close(fd);
+    if (terminal) return OutputKind::WriteThrough;
+  }
+  fail("{}: cannot write: {}, not a regular file", path, file_kind(info.st_mode));
+}
+
+// Copies the file at `from` into the open descriptor `to`; an error message, empty on success.
+std::string copy_into(const std::string& from, int to) {
+  const int in = ::open(from.c_str(), O_RDONLY | O_CLOEXEC);
+  if (in < 0) return std::strerror(errno);
+  std::string problem;
+  char buffer[1 << 16];
+  for (;;) {
+    const ssize_t n = ::read(in, buffer, sizeof buffer);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      if (n < 0) problem = std::strerror(errno);
+      break;
+    }
+    if (!write_all(to, std::string(buffer, static_cast<size_t>(n)))) {
+      problem = std::strerror(errno);
+      break;
+    }
+  }
+  ::close(in);
+  return problem;
+}
+
+// The one way brdffit writes a file: `fill` writes the temporary file (open as fd, named tmp)
+// and returns an error message, empty on success; the file is then renamed over `path`, or,
+// when `path` names a pipe or a terminal, copied into it.
 void replace_file(const std::string& path, const std::string& extension,
                   const std::function<std::string(int fd, const std::string& tmp)>& fill) {
-  // Only a regular file (or nothing) is replaced: renaming over a device node or a FIFO would
-  // swap a system file for ours. A symbolic link is replaced itself (rename does not follow it).
-  struct stat target;
-  if (::lstat(path.c_str(), &target) == 0 && !S_ISREG(target.st_mode) && !S_ISLNK(target.st_mode))
-    fail("{}: cannot write: {}, not a regular file", path, file_kind(target.st_mode));
+  const OutputKind kind = output_kind(path);
   // mkstemps opens O_CREAT|O_EXCL with a fresh name: a planted file or link is never followed.
-  std::string tmp = path + kTempInfix + "XXXXXX" + extension;
+  // The name starts with kTempPrefix, so that --resume removes only temporaries of brdffit's. A
+  // file written through is staged in the temporary folder, not beside a pipe in /dev.
+  const fs::path target(path);
+  std::error_code error;
+  const fs::path folder = kind == OutputKind::Replace ? target.parent_path() : fs::temp_directory_path(error);
+  std::string tmp = (folder / (kTempPrefix + target.filename().string() + ".XXXXXX" + extension)).string();
   const int fd = ::mkstemps(tmp.data(), static_cast<int>(extension.size()));
   if (fd < 0) fail("{}: cannot write: {}", path, std::strerror(errno));
   std::string problem;
   if (::fchmod(fd, new_file_mode()) != 0) problem = std::strerror(errno);
   if (problem.empty()) problem = fill(fd, tmp);
-  if (problem.empty() && ::fsync(fd) != 0) problem = std::strerror(errno);
+  if (problem.empty() && kind == OutputKind::Replace && ::fsync(fd) != 0) problem = std::strerror(errno);
   if (::close(fd) != 0 && problem.empty()) problem = std::strerror(errno);
+  if (problem.empty() && kind == OutputKind::WriteThrough) {
+    const int out = ::open(path.c_str(), O_WRONLY | O_APPEND | O_NOCTTY | O_CLOEXEC);
+    problem = out < 0 ? std::strerror(errno) : copy_into(tmp, out);
+    if (out >= 0) ::close(out);
+    ::unlink(tmp.c_str());
+    if (problem.empty()) return;
+  }
   if (problem.empty() && std::rename(tmp.c_str(), path.c_str()) != 0) problem = std::strerror(errno);
   if (!problem.empty()) {
     ::unlink(tmp.c_str());
@@ -156,8 +229,12 @@ void check_outputs(const std::vector<std::string>& inputs, const std::vector<std
     std::string spelling;
   };
   auto entry = [](const std::string& path) {
+    // Not there yet: spelled with its folder's links resolved, so that l/x.json and r/x.json
+    // through two links to one folder are one output.
     struct stat info;
-    Entry e{path, ::stat(path.c_str(), &info) == 0, 0, 0, absolute_path(path)};
+    std::error_code error;
+    const fs::path resolved = fs::weakly_canonical(absolute_path(path), error);
+    Entry e{path, ::stat(path.c_str(), &info) == 0, 0, 0, error ? absolute_path(path) : resolved.string()};
     if (e.exists) e.device = info.st_dev, e.inode = info.st_ino;
     return e;
   };
@@ -169,9 +246,7 @@ void check_outputs(const std::vector<std::string>& inputs, const std::vector<std
     if (!p.empty()) in.push_back(entry(p));
   for (const std::string& p : outputs) {
     if (p.empty()) continue;
-    struct stat info;
-    if (::lstat(p.c_str(), &info) == 0 && !S_ISREG(info.st_mode) && !S_ISLNK(info.st_mode))
-      fail("{}: cannot write: {}, not a regular file", p, file_kind(info.st_mode));
+    output_kind(p);  // refuses what cannot be written
     const Entry e = entry(p);
     for (const Entry& i : in)
       if (same(e, i)) fail("{}: the output is the input {}: refusing to overwrite it", p, i.path);
@@ -182,8 +257,8 @@ void check_outputs(const std::vector<std::string>& inputs, const std::vector<std
 }
 
 int remove_stale_temp_files(const std::string& folder) {
-  // replace_file's names: <name>.tmp.XXXXXX[.ext] (mkstemps), or <name>.tmp.<pid> (older versions).
-  static const std::regex temp_name(R"(.+\.tmp\.([A-Za-z0-9]{6}(\.[A-Za-z0-9]+)?|[0-9]+))");
+  // replace_file's names: kTempPrefix + <name>.XXXXXX[.ext] (mkstemps); nothing else is touched.
+  static const std::regex temp_name(R"(\.brdffit-tmp\..+\.[A-Za-z0-9]{6}(\.[A-Za-z0-9]+)?)");
   int removed = 0;
   std::error_code error;
   for (const fs::directory_entry& e : fs::directory_iterator(folder, error)) {
@@ -217,6 +292,58 @@ std::string sha256_file(const std::string& path) {
   std::string hex;
   for (unsigned int i = 0; i < length; ++i) hex += fmt::format("{:02x}", digest[i]);
   return hex;
+}
+
+size_t utf8_sequence_length(const std::string& text, size_t i) {
+  const auto byte = [&](size_t k) { return k < text.size() ? static_cast<unsigned char>(text[k]) : 0u; };
+  const unsigned lead = byte(i);
+  const auto continuation = [&](size_t k, unsigned low = 0x80, unsigned high = 0xBF) {
+    return byte(k) >= low && byte(k) <= high;
+  };
+  if (lead < 0x80) return 1;
+  if (lead >= 0xC2 && lead <= 0xDF) return continuation(i + 1) ? 2 : 0;
+  if (lead >= 0xE0 && lead <= 0xEF) {
+    // E0: no overlong forms; ED: no surrogates (U+D800..U+DFFF).
+    const unsigned low = lead == 0xE0 ? 0xA0 : 0x80, high = lead == 0xED ? 0x9F : 0xBF;
+    return continuation(i + 1, low, high) && continuation(i + 2) ? 3 : 0;
+  }
+  if (lead >= 0xF0 && lead <= 0xF4) {
+    // F0: no overlong forms; F4: nothing above U+10FFFF.
+    const unsigned low = lead == 0xF0 ? 0x90 : 0x80, high = lead == 0xF4 ? 0x8F : 0xBF;
+    return continuation(i + 1, low, high) && continuation(i + 2) && continuation(i + 3) ? 4 : 0;
+  }
+  return 0;  // a continuation byte, C0, C1 or F5..FF
+}
+
+bool valid_utf8(const std::string& text) {
+  for (size_t i = 0; i < text.size();) {
+    const size_t length = utf8_sequence_length(text, i);
+    if (length == 0) return false;
+    i += length;
+  }
+  return true;
+}
+
+std::string printable(const std::string& text) {
+  std::string out;
+  for (size_t i = 0; i < text.size();) {
+    const size_t length = utf8_sequence_length(text, i);
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    // C1 controls (U+0080..U+009F, C2 80..C2 9F) act as escape sequences on some terminals too.
+    const bool c1 = length == 2 && c == 0xC2 && static_cast<unsigned char>(text[i + 1]) < 0xA0;
+    if (length == 0 || c < 0x20 || c == 0x7F || c1) {
+      if (c == '\n' || c == '\t')
+        out += static_cast<char>(c);
+      else
+        out += fmt::format("\\x{:02x}", c);
+      i += 1;
+      if (c1) out += fmt::format("\\x{:02x}", static_cast<unsigned char>(text[i++]));
+      continue;
+    }
+    out.append(text, i, length);
+    i += length;
+  }
+  return out;
 }
 
 std::string escape_markup(const std::string& text) {

@@ -140,31 +140,21 @@ std::vector<double> export_values(const Model& model, const FitResult& fit, std:
 }
 
 // Characters that can stand in XML 1.0 text: escaped markup, and every byte that is not part of
-// valid UTF-8 or is a control character other than tab and newline written as "\xNN".
+// well-formed UTF-8, is a control character other than tab and newline, DEL, or part of U+FFFE or
+// U+FFFF (EF BF BE, EF BF BF: not XML characters) written as "\xNN".
 std::string xml_text(const std::string& text) {
   std::string out;
-  const auto hex = [&](unsigned char c) { out += fmt::format("\\x{:02X}", c); };
   for (size_t i = 0; i < text.size();) {
-    const unsigned char c = static_cast<unsigned char>(text[i]);
-    if (c < 0x80) {
-      if (c < 0x20 && c != '\t' && c != '\n')
-        hex(c);
-      else if (c == 0x7F)
-        hex(c);
-      else
-        out += escape_markup(std::string(1, static_cast<char>(c)));
-      ++i;
-      continue;
-    }
-    const int length = c >= 0xF0 && c < 0xF5 ? 4 : c >= 0xE0 ? 3 : c >= 0xC2 && c < 0xE0 ? 2 : 0;
-    bool valid = length > 0 && i + length <= text.size();
-    for (int k = 1; valid && k < length; ++k) valid = (static_cast<unsigned char>(text[i + k]) & 0xC0) == 0x80;
-    if (valid) {
-      out.append(text, i, length);
-      i += length;
+    const size_t length = utf8_sequence_length(text, i);
+    const auto byte = [&](size_t k) { return static_cast<unsigned char>(text[i + k]); };
+    const bool control = length == 1 && ((byte(0) < 0x20 && byte(0) != '\t' && byte(0) != '\n') || byte(0) == 0x7F);
+    const bool non_character = length == 3 && byte(0) == 0xEF && byte(1) == 0xBF && byte(2) >= 0xBE;
+    if (length == 0 || control || non_character) {
+      for (size_t k = 0; k < std::max<size_t>(length, 1); ++k) out += fmt::format("\\x{:02X}", byte(k));
+      i += std::max<size_t>(length, 1);
     } else {
-      hex(c);
-      ++i;
+      out += length == 1 ? escape_markup(text.substr(i, 1)) : text.substr(i, length);
+      i += length;
     }
   }
   return out;

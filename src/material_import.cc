@@ -15,6 +15,7 @@
 #include "brdffit/io.h"
 #include "brdffit/material_export.h"
 #include "brdffit/model.h"
+#include "brdffit/result_json.h"
 
 namespace brdffit {
 
@@ -23,8 +24,12 @@ namespace {
 struct XmlElement {
   std::string tag;
   std::map<std::string, std::string> attributes;
-  int parent = -1;  // index into the element list; -1 for the root
+  int parent = -1;            // index into the element list; -1 for the root
+  std::vector<int> children;  // indices, in document order
 };
+
+// A material file, read whole: far above any real one, so that reading stays bounded.
+std::string read_material_file(const std::string& path) { return read_file(path, kMaxMaterialFileBytes); }
 
 std::string xml_unescape(const std::string& text, const std::string& path) {
   std::string out;
@@ -112,6 +117,7 @@ std::vector<XmlElement> parse_xml(const std::string& text, const std::string& pa
       k = close + 1;
     }
     element.parent = open.empty() ? -1 : open.back();
+    if (element.parent >= 0) elements[element.parent].children.push_back(static_cast<int>(elements.size()));
     elements.push_back(std::move(element));
     if (!self_closing) open.push_back(static_cast<int>(elements.size()) - 1);
     i = end + 1;
@@ -177,10 +183,54 @@ std::vector<double> json_numbers(const nlohmann::json& j, size_t count, const st
   return values;
 }
 
+// One entry of a glTF file's "materials" (an object).
+Material read_gltf_material(const nlohmann::json& m, int index, const std::string& path,
+                            std::vector<std::string>& warnings) {
+  const nlohmann::json extensions = m.value("extensions", nlohmann::json::object());
+  const bool has_specular = extensions.contains("KHR_materials_ior") || extensions.contains("KHR_materials_specular");
+  const Model& model = *find_model(has_specular ? "gltf-specular" : "gltf");
+  Material material{m.value("name", fmt::format("material {}", index)), model.name(), model.default_values()};
+  // glTF's defaults where a factor is absent: baseColor 1, metallic 1, roughness 1.
+  const nlohmann::json pbr = m.value("pbrMetallicRoughness", nlohmann::json::object());
+  const std::string where = fmt::format("material '{}'", material.name);
+  set_parameter(model, material, "baseColor",
+                json_numbers(pbr.value("baseColorFactor", nlohmann::json{1.0, 1.0, 1.0, 1.0}), 3,
+                             where + " baseColorFactor", path),
+                path, warnings);
+  set_parameter(model, material, "metallic",
+                json_numbers(pbr.value("metallicFactor", nlohmann::json(1.0)), 1, where + " metallicFactor", path),
+                path, warnings);
+  set_parameter(model, material, "roughness",
+                json_numbers(pbr.value("roughnessFactor", nlohmann::json(1.0)), 1, where + " roughnessFactor", path),
+                path, warnings);
+  if (has_specular) {
+    const nlohmann::json ior = extensions.value("KHR_materials_ior", nlohmann::json::object());
+    const nlohmann::json spec = extensions.value("KHR_materials_specular", nlohmann::json::object());
+    set_parameter(model, material, "ior", json_numbers(ior.value("ior", nlohmann::json(1.5)), 1, where + " ior", path),
+                  path, warnings);
+    set_parameter(model, material, "specular",
+                  json_numbers(spec.value("specularFactor", nlohmann::json(1.0)), 1, where + " specularFactor", path),
+                  path, warnings);
+    set_parameter(model, material, "specularColor",
+                  json_numbers(spec.value("specularColorFactor", nlohmann::json{1.0, 1.0, 1.0}), 3,
+                               where + " specularColorFactor", path),
+                  path, warnings);
+  }
+  for (const char* texture : {"baseColorTexture", "metallicRoughnessTexture"})
+    if (pbr.contains(texture))
+      warnings.push_back(fmt::format("{}: {} has a {}: only the factors are scored", path, where, texture));
+  for (const auto& [name, value] : extensions.items())
+    if (name != "KHR_materials_ior" && name != "KHR_materials_specular")
+      warnings.push_back(fmt::format("{}: {} uses {}, which the gltf models leave out", path, where, name));
+  return material;
+}
+
 std::vector<Material> read_gltf(const std::string& path, std::vector<std::string>& warnings) {
+  const std::string text = read_material_file(path);
+  check_json_depth(text, path, "glTF (JSON) file");
   nlohmann::json gltf;
   try {
-    gltf = nlohmann::json::parse(read_file(path));
+    gltf = nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {
     fail("{}: not a glTF (JSON) file: {}", path, e.what());
   }
@@ -189,50 +239,20 @@ std::vector<Material> read_gltf(const std::string& path, std::vector<std::string
   std::vector<Material> materials;
   int index = 0;
   for (const nlohmann::json& m : gltf["materials"]) {
-    const nlohmann::json extensions = m.value("extensions", nlohmann::json::object());
-    const bool has_specular = extensions.contains("KHR_materials_ior") || extensions.contains("KHR_materials_specular");
-    const Model& model = *find_model(has_specular ? "gltf-specular" : "gltf");
-    Material material{m.value("name", fmt::format("material {}", index)), model.name(), model.default_values()};
-    ++index;
-    // glTF's defaults where a factor is absent: baseColor 1, metallic 1, roughness 1.
-    const nlohmann::json pbr = m.value("pbrMetallicRoughness", nlohmann::json::object());
-    const std::string where = fmt::format("material '{}'", material.name);
-    set_parameter(model, material, "baseColor",
-                  json_numbers(pbr.value("baseColorFactor", nlohmann::json{1.0, 1.0, 1.0, 1.0}), 3,
-                               where + " baseColorFactor", path),
-                  path, warnings);
-    set_parameter(model, material, "metallic",
-                  json_numbers(pbr.value("metallicFactor", nlohmann::json(1.0)), 1, where + " metallicFactor", path),
-                  path, warnings);
-    set_parameter(model, material, "roughness",
-                  json_numbers(pbr.value("roughnessFactor", nlohmann::json(1.0)), 1, where + " roughnessFactor", path),
-                  path, warnings);
-    if (has_specular) {
-      const nlohmann::json ior = extensions.value("KHR_materials_ior", nlohmann::json::object());
-      const nlohmann::json spec = extensions.value("KHR_materials_specular", nlohmann::json::object());
-      set_parameter(model, material, "ior",
-                    json_numbers(ior.value("ior", nlohmann::json(1.5)), 1, where + " ior", path), path, warnings);
-      set_parameter(model, material, "specular",
-                    json_numbers(spec.value("specularFactor", nlohmann::json(1.0)), 1, where + " specularFactor", path),
-                    path, warnings);
-      set_parameter(model, material, "specularColor",
-                    json_numbers(spec.value("specularColorFactor", nlohmann::json{1.0, 1.0, 1.0}), 3,
-                                 where + " specularColorFactor", path),
-                    path, warnings);
+    if (!m.is_object()) fail("{}: materials[{}]: expected an object, found {}", path, index, m.type_name());
+    try {
+      materials.push_back(read_gltf_material(m, index, path, warnings));
+    } catch (const nlohmann::json::exception& e) {
+      // A field of the wrong type (e.g. "name": 3): named by the material and nlohmann's words.
+      fail("{}: materials[{}]: {}", path, index, e.what());
     }
-    for (const char* texture : {"baseColorTexture", "metallicRoughnessTexture"})
-      if (pbr.contains(texture))
-        warnings.push_back(fmt::format("{}: {} has a {}: only the factors are scored", path, where, texture));
-    for (const auto& [name, value] : extensions.items())
-      if (name != "KHR_materials_ior" && name != "KHR_materials_specular")
-        warnings.push_back(fmt::format("{}: {} uses {}, which the gltf models leave out", path, where, name));
-    materials.push_back(std::move(material));
+    ++index;
   }
   return materials;
 }
 
 std::vector<Material> read_materialx(const std::string& path, std::vector<std::string>& warnings) {
-  const std::vector<XmlElement> elements = parse_xml(read_file(path), path);
+  const std::vector<XmlElement> elements = parse_xml(read_material_file(path), path);
   if (elements.empty() || elements[0].tag != "materialx") fail("{}: not a MaterialX document (<materialx>)", path);
   const Model& model = *find_model("openpbr");
   // Materials are named by the surfacematerial that uses a shader, or by the shader itself.
@@ -251,8 +271,8 @@ std::vector<Material> read_materialx(const std::string& path, std::vector<std::s
     set_parameter(model, material, "base_color", {0.8}, path, warnings);
     set_parameter(model, material, "specular_roughness", {0.3}, path, warnings);
     double base_weight = 1.0, specular_weight = 1.0;
-    for (size_t k = i + 1; k < elements.size(); ++k) {
-      if (elements[k].parent != static_cast<int>(i) || elements[k].tag != "input") continue;
+    for (const int k : elements[i].children) {
+      if (elements[k].tag != "input") continue;
       const std::string name = attribute(elements[k], "name");
       if (!attribute(elements[k], "nodename").empty() || !attribute(elements[k], "nodegraph").empty()) {
         warnings.push_back(
@@ -285,7 +305,7 @@ std::vector<Material> read_materialx(const std::string& path, std::vector<std::s
 }
 
 std::vector<Material> read_mitsuba(const std::string& path, std::vector<std::string>& warnings) {
-  const std::vector<XmlElement> elements = parse_xml(read_file(path), path);
+  const std::vector<XmlElement> elements = parse_xml(read_material_file(path), path);
   if (elements.empty() || elements[0].tag != "scene") fail("{}: not a Mitsuba scene (<scene>)", path);
   const Model& model = *find_model("principled");
   const std::map<std::string, std::string> ours = {
@@ -304,8 +324,7 @@ std::vector<Material> read_mitsuba(const std::string& path, std::vector<std::str
         {"sheen", {0.0}},     {"clearcoat", {0.0}},    {"clearcoatGloss", {0.0}}};
     for (const auto& [name, value] : defaults) set_parameter(model, material, name, value, path, warnings);
     double sheen_tint = 0.0;
-    for (size_t k = i + 1; k < elements.size(); ++k) {
-      if (elements[k].parent != static_cast<int>(i)) continue;
+    for (const int k : elements[i].children) {
       const std::string name = attribute(elements[k], "name");
       if (elements[k].tag == "texture") {
         warnings.push_back(fmt::format("{}: {} of '{}' is a texture: left at its default", path, name, material.name));

@@ -77,8 +77,13 @@ struct MeasuredInput {
 MeasuredInput read_input(const std::string& path) {
   const std::string head = read_head(path);
   if (const Compression compression = compression_of(head); compression != Compression::None) {
-    std::string bytes = decompress_file(path, compression, kMaxInputBytes);
-    const Format format = detect_format(path, without_compression_suffix(path), bytes);
+    // The format is told by the first bytes out, and a MERL header's dimensions bound the rest.
+    const std::string name = without_compression_suffix(path);
+    std::string bytes = decompress_file(path, compression, [&](const std::string& first) {
+      const Format format = detect_format(path, name, first);
+      return format == Format::Merl ? MerlTable::file_size(first, path) : kMaxInputBytes;
+    });
+    const Format format = detect_format(path, name, bytes);
     return {format, std::move(bytes)};
   }
   const Format format = detect_format(path, path, head);

@@ -33,17 +33,23 @@ std::string merl_file_bytes(const std::array<int, 3>& dims, const std::vector<do
 
 MerlTable MerlTable::read(const std::string& path) { return parse(read_file(path), path); }
 
-MerlTable MerlTable::parse(const std::string& bytes, const std::string& name) {
-  if (bytes.size() < kHeaderBytes)
-    fail("{}: not a MERL table: {} bytes, shorter than the 12-byte header", name, bytes.size());
+uint64_t MerlTable::file_size(const std::string& head, const std::string& name) {
+  if (head.size() < kHeaderBytes)
+    fail("{}: not a MERL table: {} bytes, shorter than the 12-byte header", name, head.size());
   int32_t dims[3];
-  std::memcpy(dims, bytes.data(), kHeaderBytes);
+  std::memcpy(dims, head.data(), kHeaderBytes);
   if (dims[0] != 90 || dims[1] != 90 || (dims[2] != 180 && dims[2] != 360))
     fail("{}: not a MERL table: dimensions {}x{}x{}, expected 90x90x180 or 90x90x360", name, dims[0], dims[1], dims[2]);
+  return kHeaderBytes + uint64_t{3} * dims[0] * dims[1] * dims[2] * sizeof(double);
+}
+
+MerlTable MerlTable::parse(const std::string& bytes, const std::string& name) {
+  const size_t expected = file_size(bytes, name);
+  int32_t dims[3];
+  std::memcpy(dims, bytes.data(), kHeaderBytes);
   MerlTable table;
   table.path_ = name;
   table.dims_ = {dims[0], dims[1], dims[2]};
-  const size_t expected = kHeaderBytes + 3 * table.bins() * sizeof(double);
   if (bytes.size() < expected)
     fail("{}: truncated MERL table: {} bytes, the {}x{}x{} header needs {}", name, bytes.size(), dims[0], dims[1],
          dims[2], expected);

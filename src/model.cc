@@ -138,6 +138,23 @@ std::vector<double> parse_numbers(const std::string& text, const std::string& wh
 }
 }  // namespace
 
+void check_parameter_value(const ParamSpec& spec, double x, const std::string& where, BoundsCheck bounds) {
+  if (bounds == BoundsCheck::AtLeastLower && !(x >= spec.lower && std::isfinite(x)))
+    fail("{}: {} must be at least {}, got {}", where, spec.name, spec.lower, x);
+  if (bounds == BoundsCheck::Both && !(x >= spec.lower && x <= spec.upper))
+    fail("{}: {} must lie in [{}, {}], got {}", where, spec.name, spec.lower, spec.upper, x);
+  if (spec.integer && x != std::round(x)) fail("{}: {} must be an integer, got {}", where, spec.name, x);
+}
+
+void check_parameter_values(const Model& model, const std::vector<double>& values, const std::string& where,
+                            BoundsCheck bounds) {
+  if (static_cast<int>(values.size()) != model.num_values())
+    fail("{}: {} values, {} has {}", where, values.size(), model.name(), model.num_values());
+  size_t i = 0;
+  for (const ParamSpec& spec : model.parameters())
+    for (int c = 0; c < spec.channels; ++c) check_parameter_value(spec, values[i++], where, bounds);
+}
+
 std::vector<double> parameter_values(const Model& model, const std::vector<std::string>& assignments) {
   std::vector<double> values = model.default_values();
   for (const std::string& assignment : assignments) {
@@ -155,11 +172,7 @@ std::vector<double> parameter_values(const Model& model, const std::vector<std::
     if (static_cast<int>(numbers.size()) != spec->channels)
       fail("--param '{}': {} takes {} value(s), got {}", assignment, name, spec->channels == 3 ? "1 or 3" : "1",
            numbers.size());
-    for (double x : numbers) {
-      if (x < spec->lower || x > spec->upper)
-        fail("--param '{}': {} must lie in [{}, {}], got {}", assignment, name, spec->lower, spec->upper, x);
-      if (spec->integer && x != std::round(x)) fail("--param '{}': {} must be an integer", assignment, name);
-    }
+    for (double x : numbers) check_parameter_value(*spec, x, "--param '" + assignment + "'");
     std::copy(numbers.begin(), numbers.end(), values.begin() + model.offset_of(name));
   }
   return values;

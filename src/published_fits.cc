@@ -258,11 +258,15 @@ std::optional<std::vector<double>> to_model_values(const Model& model, const std
 
 namespace {
 
-PublishedFit published_fit(const std::string& material, const Model& model, const std::vector<PublishedTerm>& terms,
-                           std::vector<double> values) {
+// Checked as --param values are, against the lower bounds (see check_parameter_values): a
+// denormal or negative width would score as NaN or infinity.
+PublishedFit published_fit(const std::string& fit_file, const std::string& material, const Model& model,
+                           const std::vector<PublishedTerm>& terms, std::vector<double> values) {
   std::string term;
   for (const PublishedTerm& t : terms)
     if (t.model != "Lambertian") term = t.model;
+  check_parameter_values(model, values, fmt::format("{}: {} ({} as {})", fit_file, material, term, model.name()),
+                         BoundsCheck::AtLeastLower);
   return PublishedFit{material, model.name(), term, std::move(values)};
 }
 
@@ -275,7 +279,7 @@ std::optional<PublishedFit> find_published_fit(const std::string& fit_file, cons
   if (it == fits.end()) return std::nullopt;
   std::optional<std::vector<double>> values = to_model_values(model, it->second);
   if (!values) return std::nullopt;
-  return published_fit(material, model, it->second, std::move(*values));
+  return published_fit(fit_file, material, model, it->second, std::move(*values));
 }
 
 std::vector<PublishedFit> find_published_fits(const std::string& fit_file, const std::string& material) {
@@ -292,7 +296,7 @@ std::vector<PublishedFit> find_published_fits(const std::string& fit_file, const
   std::vector<PublishedFit> found;
   for (const auto& model : all_models())
     if (std::optional<std::vector<double>> values = to_model_values(*model, it->second))
-      found.push_back(published_fit(material, *model, it->second, std::move(*values)));
+      found.push_back(published_fit(fit_file, material, *model, it->second, std::move(*values)));
   if (found.empty()) {
     std::string terms;
     for (const PublishedTerm& t : it->second) terms += (terms.empty() ? "" : " + ") + t.model;

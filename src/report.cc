@@ -342,8 +342,8 @@ std::string material_html(const FitDocument& document, const MaterialRanking& ra
   } else
     try {
       table = open_measured(document.input_path);
-      const nlohmann::json& recorded = document.json["input"]["sha256"];
-      if (recorded.is_string() && recorded.get<std::string>() != sha256_file(document.input_path))
+      const nlohmann::json* recorded = json_field(document.json, {"input", "sha256"});
+      if (recorded && recorded->is_string() && recorded->get<std::string>() != sha256_file(document.input_path))
         notes +=
             "<p class=\"note\">The table has changed since it was fitted: the pictures show its current contents.</p>";
     } catch (const Error& e) {

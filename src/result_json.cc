@@ -102,7 +102,108 @@ void validate_result(const FitResult& r, const Model& model, const std::string& 
   }
 }
 
+// What a document's optional top-level fields must be when present: compare, report, export
+// and --resume read them without checking again.
+struct OptionalField {
+  const char* name;
+  bool (*is)(const nlohmann::json&);
+  const char* expected;
+};
+const OptionalField kOptionalFields[] = {
+    {"material", [](const nlohmann::json& j) { return j.is_string(); }, "a string"},
+    {"metric", [](const nlohmann::json& j) { return j.is_string(); }, "a string"},
+    {"weighting", [](const nlohmann::json& j) { return j.is_string(); }, "a string"},
+    {"loss", [](const nlohmann::json& j) { return j.is_string(); }, "a string"},
+    {"samples", [](const nlohmann::json& j) { return j.is_number_unsigned(); }, "a whole number"},
+    {"per_channel", [](const nlohmann::json& j) { return j.is_boolean(); }, "true or false"},
+    {"images", [](const nlohmann::json& j) { return j.is_array() || j.is_object(); }, "an array or object"},
+    {"sphere", [](const nlohmann::json& j) { return j.is_object(); }, "an object"},
+};
+
 }  // namespace
+
+size_t json_depth(const std::string& text) {
+  size_t depth = 0, deepest = 0;
+  bool in_string = false;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (c == '\\')
+        ++i;  // the escaped character is no quote
+      else if (c == '"')
+        in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      deepest = std::max(deepest, ++depth);
+    } else if ((c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  }
+  return deepest;
+}
+
+void check_json_depth(const std::string& text, const std::string& path, const std::string& what) {
+  // nlohmann's values copy, compare and destroy recursively: 200,000 brackets overflow the stack.
+  const size_t depth = json_depth(text);
+  if (depth > kMaxJsonDepth)
+    fail("{}: not a {}: nested {} levels deep, more than the limit of {}", path, what, depth, kMaxJsonDepth);
+}
+
+nlohmann::json read_json_file(const std::string& path, const std::string& what) {
+  const std::string text = read_file(path);
+  check_json_depth(text, path, what);
+  try {
+    return nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    fail("{}: not a {}: {}", path, what, e.what());
+  }
+}
+
+const nlohmann::json* json_field(const nlohmann::json& j, std::initializer_list<const char*> keys) {
+  const nlohmann::json* at = &j;
+  for (const char* key : keys) {
+    if (!at->is_object()) return nullptr;
+    const auto it = at->find(key);
+    if (it == at->end()) return nullptr;
+    at = &*it;
+  }
+  return at;
+}
+
+std::string json_text(const nlohmann::json& j, int indent) {
+  return j.dump(indent, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+void put_name(nlohmann::json& object, const std::string& key, const std::string& name) {
+  if (valid_utf8(name)) {
+    object[key] = name;
+    return;
+  }
+  object[key] = nlohmann::json::parse(json_text(nlohmann::json(name)));  // bad bytes as U+FFFD
+  std::string hex;
+  for (const char c : name) hex += fmt::format("{:02x}", static_cast<unsigned char>(c));
+  object[key + "_bytes"] = hex;
+}
+
+std::optional<std::string> get_name(const nlohmann::json& object, const std::string& key, const std::string& where) {
+  if (!object.is_object()) return std::nullopt;
+  const auto bytes = object.find(key + "_bytes");
+  if (bytes != object.end()) {
+    bool ok = bytes->is_string() && bytes->get_ref<const std::string&>().size() % 2 == 0;
+    const std::string hex = ok ? bytes->get<std::string>() : std::string();
+    std::string name;
+    for (size_t i = 0; ok && i < hex.size(); i += 2) {
+      ok = std::isxdigit(static_cast<unsigned char>(hex[i])) && std::isxdigit(static_cast<unsigned char>(hex[i + 1]));
+      if (ok) name += static_cast<char>(std::stoi(hex.substr(i, 2), nullptr, 16));
+    }
+    if (!ok) fail("{}.{}_bytes: not a name's bytes in hex", where, key);
+    return name;
+  }
+  const auto value = object.find(key);
+  if (value == object.end() || !value->is_string()) return std::nullopt;
+  return value->get<std::string>();
+}
 
 nlohmann::json number_or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
 
@@ -168,11 +269,11 @@ nlohmann::json fit_document_json(const std::string& input_path, const SampleSet&
   } catch (const Error&) {
     // Inputs that are not a single file (a folder of photographs) have no one checksum.
   }
+  nlohmann::json input = {{"sha256", sha256.empty() ? nlohmann::json(nullptr) : nlohmann::json(sha256)}};
+  put_name(input, "path", absolute_path(input_path));
   return {{"schema", kSchema},
           {"tool", "brdffit " BRDFFIT_VERSION},
-          {"input",
-           {{"path", absolute_path(input_path)},
-            {"sha256", sha256.empty() ? nlohmann::json(nullptr) : nlohmann::json(sha256)}}},
+          {"input", input},
           {"samples", data.size()},
           {"weighting", data.weighting},
           {"metric", metric_name(options.metric)},
@@ -184,15 +285,21 @@ nlohmann::json fit_document_json(const std::string& input_path, const SampleSet&
 FitDocument read_fit_document(const std::string& path) {
   FitDocument doc;
   doc.path = path;
+  doc.json = read_json_file(path, "JSON file");
   try {
-    doc.json = nlohmann::json::parse(read_file(path));
-  } catch (const nlohmann::json::exception& e) {
-    fail("{}: not a JSON file: {}", path, e.what());
-  }
-  try {
-    if (!doc.json.is_object() || doc.json.value("schema", 0) != kSchema)
-      fail("{}: not a brdffit result (schema {} expected)", path, kSchema);
-    doc.input_path = doc.json.at("input").at("path").get<std::string>();
+    const nlohmann::json* schema = json_field(doc.json, {"schema"});
+    if (!schema || *schema != kSchema) fail("{}: not a brdffit result (schema {} expected)", path, kSchema);
+    for (const OptionalField& field : kOptionalFields) {
+      const nlohmann::json* value = json_field(doc.json, {field.name});
+      if (value && !field.is(*value))
+        fail("{}: {}: expected {}, found {}", path, field.name, field.expected, value->type_name());
+    }
+    const nlohmann::json* sha256 = json_field(doc.json, {"input", "sha256"});
+    if (sha256 && !sha256->is_string() && !sha256->is_null())
+      fail("{}: input.sha256: expected a string or null, found {}", path, sha256->type_name());
+    const std::optional<std::string> input_path = get_name(doc.json.at("input"), "path", path + ": input");
+    if (!input_path) fail("{}: input.path: missing or not a string", path);
+    doc.input_path = *input_path;
     if (!doc.json.at("models").is_array()) fail("{}: models: not an array", path);
     size_t index = 0;
     for (const auto& m : doc.json.at("models")) {
@@ -258,7 +365,10 @@ FitDocument read_fit_document(const std::string& path) {
 
 std::vector<std::string> read_summary_results(const std::string& path) {
   std::vector<std::string> results;
-  const nlohmann::json summary = nlohmann::json::parse(read_file(path), nullptr, /*allow_exceptions=*/false);
+  const std::string text = read_file(path);
+  check_json_depth(text, path, "batch summary");
+  // Not JSON: not a summary (read as a result document, which says what is wrong).
+  const nlohmann::json summary = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
   if (!summary.is_object() || !summary.contains("materials") || !summary["materials"].is_array()) return results;
   const std::filesystem::path folder = std::filesystem::path(absolute_path(path)).parent_path();
   size_t index = 0;
@@ -267,8 +377,9 @@ std::vector<std::string> read_summary_results(const std::string& path) {
     if (!material.is_object()) fail("{}: not an object", where);
     const nlohmann::json result = material.value("result", nlohmann::json());
     if (result.is_null()) continue;  // a material that failed has no document
-    if (!result.is_string() || result.get<std::string>().empty()) fail("{}.result: not a file name", where);
-    results.push_back(absolute_path((folder / result.get<std::string>()).string()));
+    const std::optional<std::string> name = get_name(material, "result", where);
+    if (!name || name->empty()) fail("{}.result: not a file name", where);
+    results.push_back(absolute_path((folder / *name).string()));
   }
   return results;
 }
@@ -314,8 +425,7 @@ std::vector<std::string> document_paths(const std::vector<FitDocument>& document
 }
 
 std::string material_name(const FitDocument& document) {
-  if (document.json.contains("material") && document.json["material"].is_string())
-    return document.json["material"].get<std::string>();
+  if (const std::optional<std::string> name = get_name(document.json, "material", document.path)) return *name;
   return table_material_name(document.input_path);
 }
 

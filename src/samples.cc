@@ -46,7 +46,7 @@ void apply_sampling_options(SampleSet& set, const SamplingOptions& options) {
 
 void check_sample_magnitudes(const SampleSet& set) {
   const std::string source = set.source.empty() ? "input" : set.source;
-  double sum_of_squares = 0.0;
+  double sum_of_squares = 0.0, largest_value = 0.0, largest_weight = 0.0;
   for (size_t i = 0; i < set.samples.size(); ++i) {
     const Sample& s = set.samples[i];
     if (!s.value.allFinite() || !std::isfinite(s.weight) || s.weight < 0.0)
@@ -56,7 +56,13 @@ void check_sample_magnitudes(const SampleSet& set) {
       fail("{}: sample {} has a value or weight of {:.3g}, beyond the {:.0e} the fitter accepts (rescale the data)",
            source, i + 1, std::max(largest, s.weight), kMaxSampleMagnitude);
     sum_of_squares += s.weight * s.value.squaredNorm();
+    largest_value = std::max(largest_value, largest);
+    largest_weight = std::max(largest_weight, s.weight);
   }
+  for (const auto& [what, x] : {std::pair{"value", largest_value}, std::pair{"weight", largest_weight}})
+    if (x > 0.0 && x < kMinSampleMagnitude)
+      fail("{}: the largest sample {} is {:.3g}, below the {:.0e} the fitter resolves (rescale the data)", source, what,
+           x, kMinSampleMagnitude);
   if (!std::isfinite(sum_of_squares) || sum_of_squares > std::sqrt(std::numeric_limits<double>::max()))
     fail("{}: the weighted sum of squared values ({:.3g}) would overflow the fitter's cost (rescale the data)", source,
          sum_of_squares);

@@ -279,6 +279,21 @@ SphereObservation observe_sphere(const SphereInput& input) {
   return observation;
 }
 
+std::string panel_path(const PanelOutput& panels, const std::string& model, size_t index, const std::string& image) {
+  const std::string name = fmt::format("{:03}_{}.{}", index + 1, fs::path(image).stem().string(), panels.format);
+  return (fs::path(panels.dir) / model / name).string();
+}
+
+std::vector<std::string> panel_paths(const PanelOutput& panels, const SphereInput& input,
+                                     const std::vector<const Model*>& models) {
+  std::vector<std::string> paths;
+  if (panels.dir.empty()) return paths;
+  for (const Model* model : models)
+    for (size_t i = 0; i < input.images.size(); ++i)
+      paths.push_back(panel_path(panels, model->name(), i, input.images[i]));
+  return paths;
+}
+
 std::vector<PhotoError> compare_with_photographs(const SphereObservation& observation, const SphereInput& input,
                                                  const std::vector<FitResult>& fits, const PanelOutput& panels) {
   struct Compared {
@@ -331,8 +346,7 @@ std::vector<PhotoError> compare_with_photographs(const SphereObservation& observ
       const double scale = display ? 1.0 / white : 1.0;
       cv::Mat panel;
       cv::hconcat(std::vector<cv::Mat>{measured * scale, fitted * scale, heat}, panel);
-      const std::string name = fmt::format("{:03}_{}.{}", i + 1, fs::path(image.path).stem().string(), panels.format);
-      write_image((fs::path(panels.dir) / c.model->name() / name).string(), panel);
+      write_image(panel_path(panels, c.model->name(), i, image.path), panel);
     }
   }
   std::vector<PhotoError> errors;

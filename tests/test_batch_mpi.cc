@@ -52,14 +52,14 @@ TEST(BatchMpi, ResumeFitsOnlyWhatADeadJobLeftUndone) {
   ASSERT_EQ(test::run_command(mpirun(3) + batch).exit_code, 0);
   // A job killed while a rank fitted "green": its document never written, a temporary left.
   fs::remove(out + "/green.json");
-  write_file_atomic(out + "/green.json.tmp.XXXXXX", "half");
+  write_file_atomic(out + "/" + kTempPrefix + "green.json.Xy12Zw", "half");
   const auto resumed = test::run_command(mpirun(3) + batch + " --resume");
   ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
   EXPECT_NE(resumed.output.find("green: ok in"), std::string::npos) << resumed.output;
   for (const char* material : {"red", "blue", "grey"})
     EXPECT_NE(resumed.output.find(std::string(material) + ": already done"), std::string::npos) << resumed.output;
   EXPECT_TRUE(fs::exists(out + "/green.json"));
-  EXPECT_FALSE(fs::exists(out + "/green.json.tmp.XXXXXX"));
+  EXPECT_FALSE(fs::exists(out + "/" + kTempPrefix + "green.json.Xy12Zw"));
   EXPECT_EQ(nlohmann::json::parse(read_file(out + "/summary.json"))["counts"]["ok"], 4);
 }
 

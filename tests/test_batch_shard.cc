@@ -144,16 +144,14 @@ TEST(BatchShardCli, AShardThatDiedIsReportedByTheMergeAndRecoveredByResume) {
 TEST(BatchShardCli, ShardsShareTheFolderButNoShardRunsTwice) {
   const std::string dir = test::fresh_dir("shard-lock"), in = test::write_shard_inputs(dir), out = dir + "/out";
   const std::string batch = "batch " + in + " --models lambert --threads 1 --out " + out;
-  // Shard 0 is running (its lock names this live process): shard 1 goes ahead, shard 0 may not.
-  fs::create_directories(out);
-  write_file_atomic(out + "/" + shard_lock_name({0, 2}), std::to_string(::getpid()) + "\n");
+  // Shard 0 is running (this process holds it): shard 1 goes ahead, shard 0 may not.
+  const OutputFolderLock shard0(out, 0, 2);
   const auto other = test::run_cli(batch + " --shard 1/2");
   EXPECT_EQ(other.exit_code, 0) << other.output;
   const auto same = test::run_cli(batch + " --shard 0/2");
   EXPECT_NE(same.exit_code, 0);
-  EXPECT_NE(same.output.find("another batch (pid " + std::to_string(::getpid()) + ")"), std::string::npos)
-      << same.output;
-  EXPECT_FALSE(fs::exists(out + "/" + shard_lock_name({1, 2})));  // released when shard 1 ended
+  EXPECT_NE(same.output.find("another batch (shard 0/2)"), std::string::npos) << same.output;
+  EXPECT_TRUE(fs::exists(out + "/" + std::string(OutputFolderLock::kLockName)));  // still held by shard 0
 }
 
 TEST(BatchShardCli, MergeAndShardExcludeEachOther) {

@@ -102,7 +102,8 @@ TEST(CaptureCli, BadSourcesAreClearErrors) {
   const std::string dir = test::fresh_dir("capture-bad");
   write_exposures(dir, scene_radiance(), {0.5, 5.0});
   test::expect_cli_errors(
-      {{"capture " + dir + "/nothing_%02d.png --out " + dir + "/x.exr", "nothing_%02d.png: cannot open"},
+      {{"capture " + dir + "/nothing_%02d.png --out " + dir + "/x.exr",
+        "nothing_%02d.png: no frame of this image sequence exists"},
        {"capture " + dir + "/frame_%02d.png --exposures 0.5,5,50 --out " + dir + "/x.exr", "ran out of frames after 2"},
        {"capture " + dir + "/frame_%02d.png --exposures 0.5,-5 --out " + dir + "/x.exr", "must be positive"}},
       dir + "/x.exr");

@@ -68,23 +68,30 @@ struct BatchEvents {
   std::function<void(const MaterialOutcome&)> finished;
 };
 
-// Holds a batch's output folder for one process: creates the folder and in it the lock file
-// kLockName holding the owner's pid, removed when the lock is destroyed. Throws Error naming the
-// folder and the owner when another live process (or this one) holds it; a lock file whose
-// owner is gone (a killed batch) is taken over. Held around run_batch and the summary, so two
-// batches never overwrite each other's results.
+// Holds a batch's output folder for one process, by locks on the lock file kLockName in it:
+// one protocol for every run that writes there. A whole-folder run (plain, --merge, rank 0 of an
+// MPI job) excludes every other; shard K of N excludes whole-folder runs, shards of another N
+// and another shard K of N, and runs beside the other shards of N. The locks are the kernel's
+// (open-file-description locks, which NFS supports), so a killed batch holds nothing; the lock
+// file (holding a whole-folder owner's pid, for the message) is removed by the last holder.
+// Throws Error naming the folder and who holds it. Held around run_batch and the summary, so
+// two batches never overwrite each other's results.
 class OutputFolderLock {
  public:
   static constexpr const char* kLockName = ".brdffit-batch.lock";
-  // lock_name: another name for processes that cooperate in one folder (each shard of a batch
-  // holds its own, so the shards run together but the same shard never runs twice at once).
-  explicit OutputFolderLock(const std::string& folder, const std::string& lock_name = kLockName);
+  // The most shards a batch is split into (--shard K/N: N at most this).
+  static constexpr int kMaxShards = 100000;
+  // The whole folder.
+  explicit OutputFolderLock(const std::string& folder);
+  // Shard shard_index (0-based) of shard_count.
+  OutputFolderLock(const std::string& folder, int shard_index, int shard_count);
   ~OutputFolderLock();
   OutputFolderLock(const OutputFolderLock&) = delete;
   OutputFolderLock& operator=(const OutputFolderLock&) = delete;
 
  private:
   std::string path_;
+  int fd_ = -1;
 };
 
 // How a batch of `materials` runs: materials fitted at once (options.jobs, at most one per

@@ -36,10 +36,6 @@ std::optional<std::string> process_environment(const std::string& name);
 // variables in the environment).
 Shard parse_shard(const std::string& text, const EnvironmentLookup& environment = process_environment);
 
-// The name of a shard's lock file in the output folder (see OutputFolderLock), e.g.
-// ".brdffit-batch.shard-2-of-10.lock": shards run together, the same shard never twice at once.
-std::string shard_lock_name(const Shard& shard);
-
 // The materials of one shard, in input order (see the header comment for the split).
 std::vector<BatchMaterial> shard_materials(const std::vector<BatchMaterial>& materials, const Shard& shard);
 

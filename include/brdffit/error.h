@@ -9,21 +9,11 @@
 
 namespace brdffit {
 
-// The text with control characters (ESC, NUL, CR, DEL, ...) written as \xHH, so that bytes a
-// message quotes from a file neither drive the terminal nor cut the message short at a NUL.
-// Newlines and tabs are kept: messages may be laid out on several lines.
-inline std::string printable(const std::string& text) {
-  std::string out;
-  out.reserve(text.size());
-  for (const char c : text) {
-    const auto byte = static_cast<unsigned char>(c);
-    if ((byte < 0x20 && c != '\n' && c != '\t') || byte == 0x7f)
-      out += fmt::format("\\x{:02x}", byte);
-    else
-      out += c;
-  }
-  return out;
-}
+// The one path for text from files and names to the terminal: control characters (ESC, NUL,
+// CR, ...; newlines and tabs are kept, messages may be laid out on several lines), DEL, C1
+// controls and bytes that are not UTF-8 written as \xHH, so that bytes a message or a table
+// quotes from a file or a name neither drive the terminal nor cut the text short at a NUL.
+std::string printable(const std::string& text);
 
 // Every message goes through printable(), whatever built it.
 class Error : public std::runtime_error {

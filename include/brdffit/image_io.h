@@ -44,6 +44,11 @@ ImageInfo read_image_info(const std::string& path);
 constexpr uint64_t kDefaultMaxImagePixels = uint64_t{100} << 20;  // about 10000x10000
 void set_max_image_pixels(uint64_t pixels);
 uint64_t get_max_image_pixels();
+// And the most bytes its pixels may decode to (a float per channel): those of the pixel limit
+// at kMaxBudgetChannels channels (RGBA), so that a small file declaring many channels cannot
+// ask for many times the memory the pixel limit means to allow.
+constexpr uint64_t kMaxBudgetChannels = 4;
+uint64_t max_image_bytes();
 
 // Reads an image as linear RGB (grey images are spread over the three channels, alpha and any
 // further channels are dropped). Throws Error naming the file when it cannot be read or holds

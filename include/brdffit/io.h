@@ -17,8 +17,10 @@ constexpr uint64_t kMaxInputBytes = uint64_t{4} << 30;
 
 // Writes to a temporary file created exclusively (mkstemp) in `path`'s folder, flushes it and
 // renames it over `path`, so readers see the old file or the complete new one, never a partial
-// one. `path` must be a regular file or not exist: a device, FIFO or folder is refused, and a
-// symbolic link is replaced by the file, its target left alone. Throws Error on failure.
+// one. What `path` finally names (links followed) decides: a regular file or nothing is
+// replaced (a symbolic link to a regular file is replaced by the file, its target left alone); a
+// FIFO, socket, terminal or /dev/null (`/dev/stdout` through its links) is written through; a
+// folder or another device is refused. Throws Error on failure.
 void write_file_atomic(const std::string& path, const std::string& contents);
 
 // The same for writers that need a file name (e.g. an image library choosing the format by the
@@ -50,6 +52,13 @@ std::string absolute_path(const std::string& path);
 // SHA-256 of a file's bytes as lowercase hex.
 std::string sha256_file(const std::string& path);
 
+// The length (1 to 4) of the well-formed UTF-8 sequence at text[i], or 0 when there is none:
+// a stray continuation byte, a missing one, an overlong form, a surrogate or above U+10FFFF.
+size_t utf8_sequence_length(const std::string& text, size_t i);
+
+// Whether all of `text` is well-formed UTF-8. File names are bytes and need not be.
+bool valid_utf8(const std::string& text);
+
 // Text escaped to stand in HTML or XML content and attribute values (& < > " ').
 std::string escape_markup(const std::string& text);
 
@@ -65,12 +74,15 @@ std::string count_of(size_t count, const std::string& noun);
 // CSV file brdffit writes goes through it.
 std::string csv_field(const std::string& text);
 
-// The name write_file_atomic gives its temporary files for `path` is `path` + this + a unique
-// suffix; a killed process leaves them behind (see remove_stale_temp_files).
-inline constexpr const char* kTempInfix = ".tmp.";
+// write_file_atomic's temporary file for folder/name is folder/ + this + name + "." + a unique
+// six-character suffix (+ the extension); a killed process leaves them behind (see
+// remove_stale_temp_files). The prefix tells them from the user's files.
+inline const std::string kTempPrefix = ".brdffit-tmp.";
 
 // Removes the temporary files write_file_atomic leaves in `folder` when its process was killed
-// (names containing kTempInfix followed by a mkstemp suffix). Returns how many it removed.
+// (names starting with kTempPrefix and ending in a mkstemp suffix), and nothing else. Call it
+// only while holding the folder (OutputFolderLock), so no live writer's file is removed.
+// Returns how many it removed.
 int remove_stale_temp_files(const std::string& folder);
 
 }  // namespace brdffit

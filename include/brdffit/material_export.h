@@ -90,10 +90,14 @@ std::string gltf_document(const Material& material, const nlohmann::json& proven
 std::string materialx_document(const Material& material, const std::string& comment);
 std::string mitsuba_document(const Material& material, const std::string& comment);
 
+// The largest material file read_materials reads (a real one is a few kilobytes).
+constexpr uint64_t kMaxMaterialFileBytes = uint64_t{16} << 20;
+
 // Materials read back from a .gltf, .mtlx or Mitsuba .xml file, each as the matching model
 // (gltf or gltf-specular, openpbr, principled). Inputs the model does not have (textures,
 // coat, ...) or holds fixed are reported in `warnings`. Throws Error naming the file when it
-// is not one of these formats or holds no material.
+// is not one of these formats, is larger than kMaxMaterialFileBytes or holds no material. Time
+// and memory are linear in the file's size.
 std::vector<Material> read_materials(const std::string& path, std::vector<std::string>& warnings);
 // The material called `name` (empty: the file's only material); throws Error naming the file
 // and the materials it has otherwise.

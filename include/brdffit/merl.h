@@ -32,6 +32,9 @@ class MerlTable final : public MeasuredBrdf {
   // Reads a file; throws Error naming the file and the problem (short or long for its header,
   // wrong dimensions, NaN or infinite values).
   static MerlTable read(const std::string& path);
+  // The size of the file whose first bytes are `head` (at least the 12-byte header), as its
+  // dimensions imply; throws Error naming `name` when they are not a MERL table's.
+  static uint64_t file_size(const std::string& head, const std::string& name);
   // Parses the bytes of a file called `name` (for messages).
   static MerlTable parse(const std::string& bytes, const std::string& name);
 

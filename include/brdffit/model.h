@@ -105,6 +105,19 @@ namespace brdffit {
 // wrong number of components or a value outside the parameter's bounds.
 std::vector<double> parameter_values(const Model& model, const std::vector<std::string>& assignments);
 
+// The one check of given parameter values, wherever they come from (--param, a published .fit
+// file): throws Error starting with `where` unless x is a number within the parameter's bounds
+// (NaN never is) and whole for an integer parameter. Values fitted elsewhere are checked only
+// against the lower bound (AtLeastLower), below which the models are undefined (a width of 0
+// or below, a negative colour): published fits lie beyond the upper bounds, which bound the
+// search, not the model (Bagher's SGD f0 up to 8, Low's eta near 100). The second checks a
+// model's whole vector.
+enum class BoundsCheck { Both, AtLeastLower };
+void check_parameter_value(const ParamSpec& spec, double x, const std::string& where,
+                           BoundsCheck bounds = BoundsCheck::Both);
+void check_parameter_values(const Model& model, const std::vector<double>& values, const std::string& where,
+                            BoundsCheck bounds = BoundsCheck::Both);
+
 // Parses "x,y,z" into a vector; throws Error naming `what` when malformed or non-finite.
 Vec3 parse_vec3(const std::string& text, const std::string& what);
 

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,40 @@ namespace brdffit {
 
 // A 3-vector, a direction or an RGB colour (the same type), as a JSON array [x, y, z].
 inline nlohmann::json json_array(const Vec3& v) { return {v[0], v[1], v[2]}; }
+
+// The deepest nesting of arrays and objects in any JSON file brdffit reads (its own documents
+// nest five deep, glTF files a few more).
+constexpr size_t kMaxJsonDepth = 64;
+
+// How deeply `text`'s arrays and objects nest (brackets outside strings), counted without
+// parsing: linear and without recursion.
+size_t json_depth(const std::string& text);
+
+// Throws Error naming `path` when `text` nests deeper than kMaxJsonDepth.
+void check_json_depth(const std::string& text, const std::string& path, const std::string& what);
+
+// Every JSON file brdffit reads goes through here: the file parsed, after its depth was checked
+// against kMaxJsonDepth. Throws Error naming the file and saying it is not a `what` ("glTF
+// file") when it cannot be read, nests too deeply or is not JSON.
+nlohmann::json read_json_file(const std::string& path, const std::string& what);
+
+// The value at keys... inside `j` (e.g. {"input", "sha256"}), or nullptr when a key is missing
+// or a value on the way is not an object: optional fields looked up without operator[] on a
+// const value (undefined behaviour when the key is missing).
+const nlohmann::json* json_field(const nlohmann::json& j, std::initializer_list<const char*> keys);
+
+// Every JSON text brdffit writes or prints: a string that is not UTF-8 (a message quoting a
+// file name that is not) has its bad bytes replaced by U+FFFD instead of failing the write.
+// Names that must come back exactly are stored with put_name.
+std::string json_text(const nlohmann::json& j, int indent = -1);
+
+// A name (a path, a file or material name: bytes, not necessarily UTF-8) under `key` of
+// `object`: as it is when it is UTF-8; otherwise with its bad bytes replaced, for people and
+// other readers, and losslessly as hex under key + "_bytes", which get_name prefers.
+void put_name(nlohmann::json& object, const std::string& key, const std::string& name);
+// The name put_name stored, or nullopt when `object` has no string under `key`. Throws Error
+// starting with `where` when key + "_bytes" is there but not hex.
+std::optional<std::string> get_name(const nlohmann::json& object, const std::string& key, const std::string& where);
 
 // JSON has no NaN: a number that is not finite is written as null.
 nlohmann::json number_or_null(double x);

@@ -53,10 +53,14 @@ void apply_sampling_options(SampleSet& set, const SamplingOptions& options);
 // Largest |value| and weight the fitter accepts: squared and summed over millions of samples
 // they must stay far from the largest double, or the solver's cost overflows to infinity.
 constexpr double kMaxSampleMagnitude = 1e100;
+// And the smallest the largest of them may be: below it squares underflow toward zero, every
+// model fits with no error, and the verdicts would call them all good.
+constexpr double kMinSampleMagnitude = 1e-100;
 
 // Throws Error naming set.source unless every sample's value and weight is finite, weights are
 // not negative, values and weights are at most kMaxSampleMagnitude in size and the weighted sum
-// of squared values is finite. The fitter calls it before any solver sees the samples.
+// of squared values is finite, and the largest value and the largest weight are zero or at least
+// kMinSampleMagnitude in size. The fitter calls it before any solver sees the samples.
 void check_sample_magnitudes(const SampleSet& set);
 
 }  // namespace brdffit

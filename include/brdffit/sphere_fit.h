@@ -115,6 +115,13 @@ struct PanelOutput {
                                // grey marks pixels left out, black lies off the sphere.
 };
 
+// Where compare_with_photographs writes the panel of `model` for image `index` (0-based) at
+// `image`, and every panel it may write for `models`: the one list the command checks against
+// its inputs (check_outputs) before any work and the writer uses.
+std::string panel_path(const PanelOutput& panels, const std::string& model, size_t index, const std::string& image);
+std::vector<std::string> panel_paths(const PanelOutput& panels, const SphereInput& input,
+                                     const std::vector<const Model*>& models);
+
 // One entry per successful fit, in the order of `fits`. Rereads the photographs (one at a time).
 std::vector<PhotoError> compare_with_photographs(const SphereObservation& observation, const SphereInput& input,
                                                  const std::vector<FitResult>& fits, const PanelOutput& panels = {});

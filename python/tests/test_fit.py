@@ -3,6 +3,7 @@ on the bundled table, and errors."""
 import _thread
 import json
 import math
+import os
 import pathlib
 
 import numpy as np
@@ -218,3 +219,25 @@ def test_bad_options_and_arrays_raise_errors(cli, bundled_table):
         brdffit.fit(42)
     with pytest.raises(brdffit.Error, match="params: a fit of lambert, not of ggx"):
         brdffit.eval("ggx", brdffit.fit(samples, models="lambert")[0], light, view)
+
+
+def test_save_refuses_its_input_and_names_are_bytes(tmp_path):
+    # A CSV of a Lambert material (albedo 0.5) under a name that is not UTF-8, as os.listdir gives it.
+    rng = np.random.default_rng(3)
+    light, view = hemisphere_directions(rng, 200), hemisphere_directions(rng, 200)
+    rows = ["lx,ly,lz,vx,vy,vz,r,g,b"] + [
+        ",".join(map(str, [*l, *v, 0.5 / math.pi, 0.5 / math.pi, 0.5 / math.pi])) for l, v in zip(light, view)
+    ]
+    name = os.fsdecode(b"m\xff.csv")
+    table = tmp_path / name
+    table.write_text("\n".join(rows) + "\n")
+    results = brdffit.fit(brdffit.read(table), models="lambert")
+    assert results.input == str(table)  # round-trips through os.fsdecode
+    assert "\\xff" in repr(results)
+    # save() makes the check every writer makes: never over the table the results came from.
+    with pytest.raises(brdffit.Error, match="the output is the input"):
+        results.save(table)
+    assert table.read_text().startswith("lx,")
+    results.save(tmp_path / "doc.json")
+    document = json.loads((tmp_path / "doc.json").read_text())
+    assert bytes.fromhex(document["input"]["path_bytes"]) == os.fsencode(table)

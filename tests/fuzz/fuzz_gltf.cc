@@ -1,0 +1,6 @@
+// Material import of .gltf files: see fuzz_material.h for what must hold.
+#include "fuzz_material.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  return brdffit::fuzz::read_material_file("gltf", ".gltf", data, size);
+}
