@@ -287,10 +287,11 @@ void run_export(const ExportArgs& args) {
     say("  the {} fit unchanged ({} error {:.4g})\n", exported.source_model, exported.metric, exported.fit_error);
     return;
   }
-  say("  converted from the {} fit ({} error {:.4g}); on the original data, all samples: converted {:.4g}, "
-      "the {} fit {:.4g}\n",
-      exported.source_model, exported.metric, exported.fit_error, exported.converted_error, exported.source_model,
-      exported.source_error_on_data);
+  say("  converted from the {} fit {} ({} error {:.4g}); on the original data, all samples: converted {:.4g}, "
+      "the {} fit {:.4g}; the converted material against the {} fit on fixed directions: {} {:.4g}\n",
+      exported.source_model, exported.conversion, exported.metric, exported.fit_error, exported.converted_error,
+      exported.source_model, exported.source_error_on_data, exported.source_model, exported.metric,
+      exported.converted_vs_fit);
 }
 
 }  // namespace
@@ -334,7 +335,7 @@ void add_batch_commands(CLI::App& app) {
       "export", "Write a fit as the renderer's material: glTF 2.0, OpenPBR (MaterialX) or Mitsuba 3 principled");
   export_cmd->add_option("result", export_args->result, "Result document (from fit or batch)")->required();
   add_models_option(export_cmd, export_args->model,
-                    "The fit to export (default: the format's own: gltf or gltf-specular, openpbr, principled; "
+                    "The fit to export (default: the format's own: gltf or gltf-specular, openpbr, mitsuba-principled; "
                     "another fit is converted and its error reported)");
   export_cmd->add_option("--format", export_args->format, "gltf, openpbr or mitsuba (default: from --out's extension)");
   export_cmd->add_option("-o,--out", export_args->out, "File to write (.gltf, .mtlx, .xml)")->required();

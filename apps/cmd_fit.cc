@@ -30,8 +30,8 @@ void print_ranking(const std::vector<FitResult>& results, Metric metric) {
   });
   // typical (how far off a typical sample is, relative to its value) is the column behind most
   // poor verdicts: it explains a poor fit ranked above a good one.
-  say("{:>4}  {:<18} {:<7} {:>10} {:>10} {:>10} {:>10} {:>10} {:>8} {:>6} {:>8}\n", "rank", "model", "verdict", "cosine",
-      "log", "relative", "l2", "max", "typical", "iters", "seconds");
+  say("{:>4}  {:<18} {:<7} {:>10} {:>10} {:>10} {:>10} {:>10} {:>8} {:>6} {:>8}\n", "rank", "model", "verdict",
+      "cosine", "log", "relative", "l2", "max", "typical", "iters", "seconds");
   int rank = 0;
   for (const FitResult* r : order) {
     if (!r->ok) {

@@ -46,21 +46,21 @@ void run_info(const std::string& path, bool json) {
     return;
   }
   say("{}\n  format      {}\n  resolution  {}\n  valid       {}\n  invalid     {}\n", path, info.format,
-             info.resolution, info.valid, info.invalid);
+      info.resolution, info.valid, info.invalid);
   if (info.valid > 0)
     say("  zero        {} ({:.1f}% of the valid entries)\n", info.zero, 100.0 * info.zero / info.valid);
   say("  min f       {:.6g} {:.6g} {:.6g} (1/sr)\n  max f       {:.6g} {:.6g} {:.6g} (1/sr)\n", info.min[0],
-             info.min[1], info.min[2], info.max[0], info.max[1], info.max[2]);
+      info.min[1], info.min[2], info.max[0], info.max[1], info.max[2]);
   if (info.albedo.allFinite())
     say("  albedo      {:.6g} {:.6g} {:.6g} (directional, normal incidence)\n", info.albedo[0], info.albedo[1],
-               info.albedo[2]);
+        info.albedo[2]);
   if (checked) {
     for (const TableInfo::AlbedoAt& a : info.albedo_by_incidence)
       say("  albedo {:>2g}°  {:.4g} {:.4g} {:.4g}\n", a.theta_deg, a.albedo[0], a.albedo[1], a.albedo[2]);
-    say("  reciprocity {:.3g} (median |ln f(l,v)/f(v,l)|; share of ln(cosθv/cosθl) in it {:.2f})\n",
-               info.reciprocity, info.reciprocity_cosine_share);
-    say("  isotropic   {} (by its {}; turning about the normal changes f by {:.3g})\n",
-               info.isotropic ? "yes" : "no", info.isotropy, info.anisotropy);
+    say("  reciprocity {:.3g} (median |ln f(l,v)/f(v,l)|; share of ln(cosθv/cosθl) in it {:.2f})\n", info.reciprocity,
+        info.reciprocity_cosine_share);
+    say("  isotropic   {} (by its {}; turning about the normal changes f by {:.3g})\n", info.isotropic ? "yes" : "no",
+        info.isotropy, info.anisotropy);
   }
   for (const std::string& warning : info.warnings) say("  warning: {}\n", warning);
 }

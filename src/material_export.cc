@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <random>
 
 #include "brdffit/error.h"
 #include "brdffit/fit.h"
@@ -22,6 +23,8 @@ namespace {
 
 constexpr double kDielectricF0 = 0.04;                   // glTF's (IOR 1.5)
 constexpr double kDiffuseThrough = 1.0 - kDielectricF0;  // the light the dielectric coat lets through
+constexpr int kFixedDirectionPairs = 20000;              // MaterialExport::converted_vs_fit
+constexpr uint64_t kFixedDirectionsSeed = 1;
 
 // The metallic value that matches a single (luminance) albedo a and f0 f; see the header.
 double solve_metallic(double a, double f) {
@@ -85,9 +88,16 @@ Core core_of(const std::string& model_name, const std::vector<double>& values) {
     core.metallic = value_at(model, values, "metallic");
     core.roughness = value_at(model, values, "roughness");
     core.ior = ior_from_f0(0.08 * value_at(model, values, "specular"));
+  } else if (model_name == "mitsuba-principled") {  // its η is exactly ior_from_f0(0.08·specular)
+    core.base_color = colour_at(model, values, "base_color");
+    core.metallic = value_at(model, values, "metallic");
+    core.roughness = value_at(model, values, "roughness");
+    core.ior = ior_from_f0(0.08 * value_at(model, values, "specular"));
   } else {
-    fail("no conversion from the {} model: export converts ggx, gltf, gltf-specular, openpbr and principled fits",
-         model_name);
+    fail(
+        "no conversion from the {} model: export converts ggx, gltf, gltf-specular, openpbr, principled and "
+        "mitsuba-principled fits",
+        model_name);
   }
   return core;
 }
@@ -115,8 +125,13 @@ std::vector<double> values_from_core(const Model& model, const Core& core) {
     set_value(model, values, "metallic", clamp_to("metallic", core.metallic));
     set_value(model, values, "roughness", clamp_to("roughness", core.roughness));
     set_value(model, values, "specular", clamp_to("specular", f0_from_ior(core.ior) / 0.08));
+  } else if (name == "mitsuba-principled") {
+    set_colour(model, values, "base_color", base);
+    set_value(model, values, "metallic", clamp_to("metallic", core.metallic));
+    set_value(model, values, "roughness", clamp_to("roughness", core.roughness));
+    set_value(model, values, "specular", clamp_to("specular", f0_from_ior(core.ior) / 0.08));
   } else {
-    fail("{} is not a renderer material (gltf, gltf-specular, openpbr, principled)", name);
+    fail("{} is not a renderer material (gltf, gltf-specular, openpbr, principled, mitsuba-principled)", name);
   }
   return values;
 }
@@ -268,17 +283,64 @@ std::vector<std::string> native_models(MaterialFormat format) {
   switch (format) {
     case MaterialFormat::Gltf: return {"gltf", "gltf-specular"};
     case MaterialFormat::OpenPbr: return {"openpbr"};
-    case MaterialFormat::Mitsuba: return {"principled"};
+    case MaterialFormat::Mitsuba: return {"mitsuba-principled"};
   }
   return {};
 }
+
+namespace {
+
+// The target's nesting of the source when both are renderer materials: the conversion then maps
+// every parameter by name (principled → mitsuba-principled) instead of through the
+// metallic-roughness core. (A nesting of lambert or ggx is a fitting start, not a material.)
+const Nesting* nesting_of(const Model& target, const std::string& source_model) {
+  static const std::vector<std::string> kRendererMaterials = {"gltf", "gltf-specular", "openpbr", "principled",
+                                                              "mitsuba-principled"};
+  if (std::find(kRendererMaterials.begin(), kRendererMaterials.end(), source_model) == kRendererMaterials.end())
+    return nullptr;
+  for (const Nesting& nesting : target.nestings())
+    if (nesting.inner == source_model) return &nesting;
+  return nullptr;
+}
+
+}  // namespace
 
 Material convert_material(const std::string& source_model, const std::vector<double>& values,
                           const std::string& model) {
   const Model* target = find_model(model);
   if (!target) fail("unknown model '{}'", model);
+  if (const Nesting* nesting = nesting_of(*target, source_model))
+    return {"", model, embed_values(*target, *nesting, *find_model(source_model), values)};
   return {"", model, values_from_core(*target, core_of(source_model, values))};
 }
+
+namespace {
+
+// The fit's shaded values on the fixed directions of MaterialExport::converted_vs_fit: pairs
+// uniform in solid angle (cosθ uniform in [0, 1), φ uniform) from a fixed seed, so that the
+// metric estimates the same hemisphere integrals as on a densely measured table.
+SampleSet fixed_directions(const Model& model, const std::vector<double>& values,
+                           const std::vector<std::vector<double>>& per_channel_values) {
+  SampleSet set;
+  set.source = "fixed directions";
+  set.weighting = "solid-angle";
+  std::mt19937_64 rng(kFixedDirectionsSeed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const auto direction = [&] {
+    const double z = unit(rng), phi = 2 * kPi * unit(rng), r = std::sqrt(1.0 - z * z);
+    return Vec3(r * std::cos(phi), r * std::sin(phi), z);
+  };
+  for (int i = 0; i < kFixedDirectionPairs; ++i) {
+    Sample s;
+    s.l = direction();
+    s.v = direction();
+    s.value = shade_fitted(model, values, per_channel_values, s.l, s.v);
+    set.samples.push_back(s);
+  }
+  return set;
+}
+
+}  // namespace
 
 MaterialExport export_material(const FitDocument& document, const ExportRequest& request) {
   const std::vector<std::string> natives = native_models(request.format);
@@ -289,7 +351,7 @@ MaterialExport export_material(const FitDocument& document, const ExportRequest&
     if (!fit)
       fail(
           "{}: has no {} fit; fit with --models {} to export it unchanged, or convert another fit with --model "
-          "(ggx, gltf, gltf-specular, openpbr, principled)",
+          "(ggx, gltf, gltf-specular, openpbr, principled, mitsuba-principled)",
           document.path, natives.front(), natives.front());
   } else {
     fit = find_result(document.results, request.model);
@@ -318,6 +380,9 @@ MaterialExport export_material(const FitDocument& document, const ExportRequest&
       out.converted ? convert_material(fit->model, values, natives.front()) : Material{"", fit->model, values};
   out.material.name = material_name(document);
   if (out.converted) {
+    out.converted_vs_fit = evaluate_metrics(*find_model(out.material.model), out.material.values,
+                                            fixed_directions(source, fit->values, fit->channel_values))
+                               .get(metric);
     try {
       const SampleSet data = load_samples(document.input_path, SamplingOptions{});
       out.converted_error = evaluate_metrics(*find_model(out.material.model), out.material.values, data).get(metric);
@@ -328,18 +393,26 @@ MaterialExport export_material(const FitDocument& document, const ExportRequest&
     }
   }
 
-  const std::string conversion =
-      out.converted ? fmt::format("converted from the {} fit through the metallic-roughness core", fit->model)
-                    : fmt::format("the {} fit, unchanged", fit->model);
+  const Nesting* by_name = nesting_of(*find_model(out.material.model), fit->model);
+  out.conversion = !out.converted ? "unchanged"
+                   : by_name      ? fmt::format("parameter by parameter ({})", by_name->why)
+                                  : "through the metallic-roughness core";
+  const std::string conversion = out.converted ? fmt::format("converted from the {} fit {}", fit->model, out.conversion)
+                                               : fmt::format("the {} fit, unchanged", fit->model);
   nlohmann::json provenance = {{"result", document.path},     {"input", document.input_path},
                                {"model", out.material.model}, {"source_model", fit->model},
                                {"converted", out.converted},  {"verdict", verdict_name(fit->verdict)},
                                {"metric", metric_name},       {"metrics", fit_result_json(*fit)["metrics"]}};
-  if (out.converted) provenance["converted_error_on_input"] = out.converted_error;
+  if (out.converted) {
+    provenance["converted_error_on_input"] = out.converted_error;
+    provenance["converted_vs_fit"] = out.converted_vs_fit;
+  }
   const std::string comment = fmt::format(
       "brdffit {}: fitted to {}: {} ({} error {:.4g}{}).", BRDFFIT_VERSION, document.input_path, conversion,
       metric_name, out.fit_error,
-      out.converted ? fmt::format("; this converted material's error on the same data {:.4g}", out.converted_error)
+      out.converted ? fmt::format("; this converted material's error on the same data {:.4g}, against the fit on fixed "
+                                  "directions {:.4g}",
+                                  out.converted_error, out.converted_vs_fit)
                     : "");
   switch (request.format) {
     case MaterialFormat::Gltf: out.text = gltf_document(out.material, provenance); break;
@@ -445,28 +518,27 @@ std::string materialx_document(const Material& material, const std::string& comm
 }
 
 std::string mitsuba_document(const Material& material, const std::string& comment) {
-  if (material.model != "principled")
-    fail("Mitsuba's principled BSDF holds a principled material, not {}", material.model);
+  if (material.model != "mitsuba-principled")
+    fail("Mitsuba's principled BSDF holds a mitsuba-principled material, not {}", material.model);
   const Model& model = *find_model(material.model);
   const std::vector<double>& v = material.values;
   const std::string id = xml_name(material.name);
   std::string xml = "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n";
-  xml +=
-      "<!-- " + xml_comment_text(comment) +
-      "\n     Burley 2012's subsurface is Mitsuba's flatness; anisotropic 0 and sheen_tint 0.5 as brdffit holds them."
-      "\n     Include this file in a scene and refer to the material as <ref id=\"" +
-      id + "\"/>. -->\n";
+  xml += "<!-- " + xml_comment_text(comment) +
+         "\n     anisotropic 0 and sheen_tint 0.5 as brdffit's mitsuba-principled model holds them."
+         "\n     Include this file in a scene and refer to the material as <ref id=\"" +
+         id + "\"/>. -->\n";
   xml += "<scene version=\"3.0.0\">\n";
   xml += fmt::format("    <bsdf type=\"principled\" id=\"{}\">\n", id);
-  const Rgb<double> base = colour_at(model, v, "baseColor");
-  xml +=
-      fmt::format("        <rgb name=\"base_color\" value=\"{:.6f}, {:.6f}, {:.6f}\"/>\n", base[0], base[1], base[2]);
-  const std::pair<const char*, const char*> floats[] = {
-      {"metallic", "metallic"},      {"roughness", "roughness"},           {"specular", "specular"},
-      {"spec_tint", "specularTint"}, {"flatness", "subsurface"},           {"sheen", "sheen"},
-      {"clearcoat", "clearcoat"},    {"clearcoat_gloss", "clearcoatGloss"}};
-  for (const auto& [mitsuba, ours] : floats)
-    xml += fmt::format("        <float name=\"{}\" value=\"{:.6f}\"/>\n", mitsuba, value_at(model, v, ours));
+  int offset = 0;  // the model's parameters carry the plugin's names
+  for (const ParamSpec& p : model.parameters()) {
+    if (p.channels == 3)
+      xml += fmt::format("        <rgb name=\"{}\" value=\"{:.6f}, {:.6f}, {:.6f}\"/>\n", p.name, v[offset],
+                         v[offset + 1], v[offset + 2]);
+    else
+      xml += fmt::format("        <float name=\"{}\" value=\"{:.6f}\"/>\n", p.name, v[offset]);
+    offset += p.channels;
+  }
   xml += "        <float name=\"sheen_tint\" value=\"0.5\"/>\n";
   xml += "        <float name=\"anisotropic\" value=\"0\"/>\n";
   xml += "    </bsdf>\n</scene>\n";

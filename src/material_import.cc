@@ -304,14 +304,11 @@ std::vector<Material> read_materialx(const std::string& path, std::vector<std::s
   return materials;
 }
 
+// Mitsuba 3's principled BSDF as the mitsuba-principled model, whose parameters carry the plugin's names.
 std::vector<Material> read_mitsuba(const std::string& path, std::vector<std::string>& warnings) {
   const std::vector<XmlElement> elements = parse_xml(read_material_file(path), path);
   if (elements.empty() || elements[0].tag != "scene") fail("{}: not a Mitsuba scene (<scene>)", path);
-  const Model& model = *find_model("principled");
-  const std::map<std::string, std::string> ours = {
-      {"base_color", "baseColor"}, {"metallic", "metallic"},      {"roughness", "roughness"},
-      {"specular", "specular"},    {"spec_tint", "specularTint"}, {"flatness", "subsurface"},
-      {"sheen", "sheen"},          {"clearcoat", "clearcoat"},    {"clearcoat_gloss", "clearcoatGloss"}};
+  const Model& model = *find_model("mitsuba-principled");
   std::vector<Material> materials;
   for (size_t i = 0; i < elements.size(); ++i) {
     if (elements[i].tag != "bsdf" || attribute(elements[i], "type") != "principled") continue;
@@ -319,9 +316,9 @@ std::vector<Material> read_mitsuba(const std::string& path, std::vector<std::str
     Material material{id.empty() ? fmt::format("bsdf {}", materials.size()) : id, model.name(), model.default_values()};
     // Mitsuba's defaults where a parameter is absent.
     const std::map<std::string, std::vector<double>> defaults = {
-        {"baseColor", {0.5}}, {"metallic", {0.0}},     {"roughness", {0.5}},
-        {"specular", {0.5}},  {"specularTint", {0.0}}, {"subsurface", {0.0}},
-        {"sheen", {0.0}},     {"clearcoat", {0.0}},    {"clearcoatGloss", {0.0}}};
+        {"base_color", {0.5}}, {"metallic", {0.0}},  {"roughness", {0.5}},
+        {"specular", {0.5}},   {"spec_tint", {0.0}}, {"flatness", {0.0}},
+        {"sheen", {0.0}},      {"clearcoat", {0.0}}, {"clearcoat_gloss", {0.0}}};
     for (const auto& [name, value] : defaults) set_parameter(model, material, name, value, path, warnings);
     double sheen_tint = 0.0;
     for (const int k : elements[i].children) {
@@ -332,17 +329,16 @@ std::vector<Material> read_mitsuba(const std::string& path, std::vector<std::str
       }
       if (elements[k].tag != "rgb" && elements[k].tag != "float") continue;
       const std::vector<double> value = parse_numbers(attribute(elements[k], "value"), name, path);
-      const auto it = ours.find(name);
-      if (it != ours.end())
-        set_parameter(model, material, it->second, value, path, warnings);
+      if (model.find_parameter(name))
+        set_parameter(model, material, name, value, path, warnings);
       else if (name == "sheen_tint")
         sheen_tint = value[0];
       else if (value[0] != 0.0)
-        warnings.push_back(fmt::format("{}: {} = {} of '{}' is not in brdffit's principled model (held at 0)", path,
-                                       name, value[0], material.name));
+        warnings.push_back(fmt::format("{}: {} = {} of '{}' is not in brdffit's mitsuba-principled model (held at 0)",
+                                       path, name, value[0], material.name));
     }
     if (sheen_tint != 0.5 && material.values[model.offset_of("sheen")] > 0.0)
-      warnings.push_back(fmt::format("{}: sheen_tint {} of '{}' is held at 0.5 by the principled model", path,
+      warnings.push_back(fmt::format("{}: sheen_tint {} of '{}' is held at 0.5 by the mitsuba-principled model", path,
                                      sheen_tint, material.name));
     materials.push_back(std::move(material));
   }

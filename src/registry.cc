@@ -19,6 +19,7 @@
 #include "brdffit/models/low_microfacet.h"
 #include "brdffit/models/low_smooth.h"
 #include "brdffit/models/minnaert.h"
+#include "brdffit/models/mitsuba_principled.h"
 #include "brdffit/models/openpbr.h"
 #include "brdffit/models/oren_nayar.h"
 #include "brdffit/models/phong.h"
@@ -70,6 +71,7 @@ const std::vector<std::unique_ptr<Model>>& all_models() {
     add<models::GltfSpecular>(list);
     add<models::OpenPbr>(list);
     add<models::Principled>(list);
+    add<models::MitsubaPrincipled>(list);
     // Anisotropic (brushed metals, satins): each with its tangent frame's rotation phi0.
     add<models::GgxAniso>(list);
     add<models::WardAniso>(list);

@@ -87,6 +87,9 @@ const std::vector<std::string> kOpenPbr = {"base_color=0.7,0.4,0.2",     "base_m
 const std::vector<std::string> kPrincipled = {
     "baseColor=0.6,0.3,0.1", "metallic=0.1", "subsurface=0.2", "specular=0.6",      "roughness=0.4",
     "specularTint=0.3",      "sheen=0.25",   "clearcoat=0.5",  "clearcoatGloss=0.7"};
+const std::vector<std::string> kMitsubaPrincipled = {
+    "base_color=0.6,0.3,0.1", "metallic=0.1", "flatness=0.2",  "specular=0.6",       "roughness=0.4",
+    "spec_tint=0.3",          "sheen=0.25",   "clearcoat=0.5", "clearcoat_gloss=0.7"};
 
 // Writes `doc` in `format`, reads the file back and expects the model's values (to `tolerance`).
 void expect_round_trip(const std::string& doc, const std::string& out, const std::string& model,
@@ -106,11 +109,12 @@ void expect_round_trip(const std::string& doc, const std::string& out, const std
 
 TEST(ExportCli, EachFormatWritesItsModelsFitUnchangedAndReadsBack) {
   const std::string dir = test::fresh_dir("export-round-trip");
-  const std::string doc = test::write_document(
-      dir + "/gold.json", "/data/gold.binary",
-      {fit_of("ggx", {"albedo=0.1", "roughness=0.3", "f0=0.9,0.6,0.3"}),
-       fit_of("gltf", {"baseColor=0.9,0.6,0.3", "metallic=0.85", "roughness=0.3"}),
-       fit_of("gltf-specular", kGltfSpecular), fit_of("openpbr", kOpenPbr), fit_of("principled", kPrincipled)});
+  const std::string doc =
+      test::write_document(dir + "/gold.json", "/data/gold.binary",
+                           {fit_of("ggx", {"albedo=0.1", "roughness=0.3", "f0=0.9,0.6,0.3"}),
+                            fit_of("gltf", {"baseColor=0.9,0.6,0.3", "metallic=0.85", "roughness=0.3"}),
+                            fit_of("gltf-specular", kGltfSpecular), fit_of("openpbr", kOpenPbr),
+                            fit_of("principled", kPrincipled), fit_of("mitsuba-principled", kMitsubaPrincipled)});
   // glTF: core by default (what most viewers read), the KHR extensions from the gltf-specular fit.
   expect_round_trip(doc, dir + "/gold.gltf", "gltf", {"baseColor=0.9,0.6,0.3", "metallic=0.85", "roughness=0.3"}, 0.0);
   const nlohmann::json core = nlohmann::json::parse(read_file(dir + "/gold.gltf"));
@@ -123,7 +127,8 @@ TEST(ExportCli, EachFormatWritesItsModelsFitUnchangedAndReadsBack) {
   EXPECT_EQ(ext["materials"][0]["extensions"]["KHR_materials_ior"]["ior"], 1.7);
   // OpenPBR and Mitsuba: six decimals in the files.
   expect_round_trip(doc, dir + "/gold.mtlx", "openpbr", kOpenPbr, 5e-7);
-  expect_round_trip(doc, dir + "/gold.xml", "principled", kPrincipled, 5e-7);
+  // Mitsuba: the mitsuba-principled fit (what the plugin evaluates), not Burley's principled one.
+  expect_round_trip(doc, dir + "/gold.xml", "mitsuba-principled", kMitsubaPrincipled, 5e-7);
   const std::string mitsuba = read_file(dir + "/gold.xml");
   EXPECT_NE(mitsuba.find("<float name=\"flatness\" value=\"0.200000\"/>"), std::string::npos) << mitsuba;
   EXPECT_NE(mitsuba.find("<float name=\"spec_tint\" value=\"0.300000\"/>"), std::string::npos) << mitsuba;
@@ -162,6 +167,61 @@ TEST(ExportCli, ConvertsAnotherFitAndReportsTheConvertedError) {
   }
 }
 
+// The number after `label` in `text` (NaN when absent).
+double number_after(const std::string& text, const std::string& label) {
+  std::smatch match;
+  if (!std::regex_search(text, match, std::regex(label + " ([0-9.e+-]+|nan)"))) return NAN;
+  return std::stod(match[1]);
+}
+
+TEST(ExportCli, PrincipledToMitsubaIsAConversionWithItsError) {
+  // Data from Burley's principled BRDF, fitted exactly: Mitsuba's plugin, given the same
+  // parameters by name, draws another BRDF; the export says so and prints by how much.
+  const std::string dir = test::fresh_dir("export-principled-mitsuba");
+  const std::string data = test::write_model_csv(dir + "/coated.csv", "principled", kPrincipled);
+  const std::string doc = test::write_document(dir + "/coated.json", data, {fit_of("principled", kPrincipled)});
+  const auto run = test::run_cli("export " + doc + " -m principled --out " + dir + "/coated.xml");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("converted from the principled fit parameter by parameter"), std::string::npos)
+      << run.output;
+  const double on_data = number_after(run.output, "all samples: converted");
+  const double source_on_data = number_after(run.output, "the principled fit");
+  const double vs_fit = number_after(run.output, "on fixed directions: cosine");
+  EXPECT_LT(source_on_data, 1e-9) << run.output;  // the fit is the data
+  // The plugin's BRDF is not Burley's: on the data (directions up to 84°) and on the fixed
+  // directions (the whole hemisphere, where the grazing clearcoat differs most).
+  EXPECT_GT(on_data, 0.003) << run.output;
+  EXPECT_GT(vs_fit, on_data) << run.output;
+  // The values are Burley's, carried over by name.
+  std::vector<std::string> warnings;
+  const Material material = read_material(dir + "/coated.xml", "", warnings);
+  EXPECT_EQ(material.model, "mitsuba-principled");
+  const Model& mitsuba = *find_model("mitsuba-principled");
+  EXPECT_NEAR(material.values[mitsuba.offset_of("flatness")], 0.2, 5e-7);
+  EXPECT_NEAR(material.values[mitsuba.offset_of("clearcoat_gloss")], 0.7, 5e-7);
+  EXPECT_NEAR(material.values[mitsuba.offset_of("base_color") + 2], 0.1, 5e-7);
+  // With no principled conversion asked for, the document has no mitsuba-principled fit to export.
+  test::expect_cli_errors({{"export " + doc + " --out " + dir + "/x.xml",
+                            "coated.json: has no mitsuba-principled fit; fit with --models mitsuba-principled"}},
+                          dir + "/x.xml");
+}
+
+TEST(ExportCli, ABareMetalIsTheSameInBurleysAndMitsubasFormulas) {
+  // Metallic 1 without clearcoat: both are Schlick's F of the base colour times GGX D and the
+  // separable Smith G over 4 n·l n·v, so the parameter-by-parameter conversion is exact and its
+  // difference from the fit on the fixed directions vanishes.
+  const std::string dir = test::fresh_dir("export-bare-metal");
+  const std::string doc =
+      test::write_document(dir + "/metal.json", "/nowhere/metal.binary",
+                           {fit_of("principled", {"baseColor=0.9,0.6,0.3", "metallic=1", "roughness=0.35",
+                                                  "clearcoat=0", "sheen=0.4", "subsurface=0.3", "specularTint=0.5"})});
+  const auto run = test::run_cli("export " + doc + " -m principled --out " + dir + "/metal.xml");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("converted from the principled fit parameter by parameter"), std::string::npos)
+      << run.output;
+  EXPECT_LT(number_after(run.output, "on fixed directions: cosine"), 1e-12) << run.output;
+}
+
 TEST(ExportCli, RefusesPoorOrFailedVerdictsWithoutForce) {
   const std::string dir = test::fresh_dir("export-verdict");
   FitResult poor = fit_of("gltf", {"baseColor=0.5", "metallic=0", "roughness=0.5"});
@@ -198,23 +258,23 @@ const std::set<std::string> kOpenPbrInputs = {
     "specular_weight",  "specular_color",      "specular_roughness", "specular_roughness_anisotropy",
     "specular_ior",     "transmission_weight", "coat_weight",        "fuzz_weight",
     "thin_film_weight", "emission_luminance",  "geometry_opacity",   "subsurface_weight"};
-const std::set<std::string> kMitsubaPrincipled = {"base_color",
-                                                  "roughness",
-                                                  "anisotropic",
-                                                  "metallic",
-                                                  "spec_trans",
-                                                  "eta",
-                                                  "specular",
-                                                  "spec_tint",
-                                                  "sheen",
-                                                  "sheen_tint",
-                                                  "flatness",
-                                                  "clearcoat",
-                                                  "clearcoat_gloss",
-                                                  "diffuse_reflectance_sampling_rate",
-                                                  "specular_reflectance_sampling_rate",
-                                                  "spec_trans_sampling_rate",
-                                                  "diffuse_transmittance_sampling_rate"};
+const std::set<std::string> kMitsubaPrincipledInputs = {"base_color",
+                                                        "roughness",
+                                                        "anisotropic",
+                                                        "metallic",
+                                                        "spec_trans",
+                                                        "eta",
+                                                        "specular",
+                                                        "spec_tint",
+                                                        "sheen",
+                                                        "sheen_tint",
+                                                        "flatness",
+                                                        "clearcoat",
+                                                        "clearcoat_gloss",
+                                                        "diffuse_reflectance_sampling_rate",
+                                                        "specular_reflectance_sampling_rate",
+                                                        "spec_trans_sampling_rate",
+                                                        "diffuse_transmittance_sampling_rate"};
 
 std::set<std::string> names_in(const std::string& text, const std::string& element) {
   std::set<std::string> names;
@@ -230,8 +290,9 @@ const std::string kHostileInput = "/data/a<b>&c--d\x01\x1b.binary";
 TEST(ExportTools, XmlIsWellFormedWithThePluginsNames) {
   REQUIRE_TOOL(have_tool("xmllint"), "xmllint (Debian libxml2-utils)");
   const std::string dir = test::fresh_dir("export-xml");
-  const std::string doc = test::write_document(dir + "/hostile.json", kHostileInput,
-                                               {fit_of("openpbr", kOpenPbr), fit_of("principled", kPrincipled)});
+  const std::string doc =
+      test::write_document(dir + "/hostile.json", kHostileInput,
+                           {fit_of("openpbr", kOpenPbr), fit_of("mitsuba-principled", kMitsubaPrincipled)});
   for (const char* out : {"/m.mtlx", "/m.xml"}) {
     const auto run = test::run_cli("export " + doc + " --out " + dir + out);
     ASSERT_EQ(run.exit_code, 0) << run.output;
@@ -245,7 +306,7 @@ TEST(ExportTools, XmlIsWellFormedWithThePluginsNames) {
   EXPECT_EQ(names_in(mtlx, "input").size(), 10u);  // nine inputs and the material's surfaceshader
   std::set<std::string> mitsuba_names = names_in(mitsuba, "float");
   mitsuba_names.merge(names_in(mitsuba, "rgb"));
-  for (const std::string& name : mitsuba_names) EXPECT_TRUE(kMitsubaPrincipled.count(name)) << name;
+  for (const std::string& name : mitsuba_names) EXPECT_TRUE(kMitsubaPrincipledInputs.count(name)) << name;
   EXPECT_EQ(mitsuba_names.size(), 11u);
   // The hostile bytes survive as visible escapes.
   EXPECT_NE(mitsuba.find("a&lt;b&gt;&amp;c- -d\\x01\\x1B.binary"), std::string::npos) << mitsuba;

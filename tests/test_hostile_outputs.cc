@@ -158,7 +158,7 @@ TEST(HostileOutputs, ExportEscapesTheName) {
   // Export writes the renderer model's own fit unchanged (a conversion would read the table).
   const std::string document =
       test::write_document(dir + "/hostile.json", "/nowhere/" + kHostile + ".binary",
-                           {test::known_result("gltf", 0.2), test::known_result("principled", 0.2)});
+                           {test::known_result("gltf", 0.2), test::known_result("mitsuba-principled", 0.2)});
   const auto gltf = test::run_cli("export " + document + " --out " + dir + "/m.gltf");
   ASSERT_EQ(gltf.exit_code, 0) << gltf.output;
   EXPECT_EQ(nlohmann::json::parse(read_file(dir + "/m.gltf"))["materials"][0]["name"], kHostile);

@@ -5,13 +5,16 @@
 //                           (with KHR_materials_ior and KHR_materials_specular), on a small
 //                           sphere mesh so that any viewer shows it;
 //   OpenPBR (.mtlx)         the `openpbr` fit as a MaterialX document with an open_pbr_surface;
-//   Mitsuba 3 (.xml)        the `principled` fit as Mitsuba's `principled` BSDF (Burley's
-//                           parameters; subsurface is Mitsuba's `flatness`, sheen_tint 0.5 as held).
+//   Mitsuba 3 (.xml)        the `mitsuba-principled` fit as Mitsuba's `principled` BSDF (the model is
+//                           what that plugin evaluates; anisotropic 0 and sheen_tint 0.5 as held).
 // Any other renderer model's fit, or a ggx fit, can be converted instead: the materials share a
 // metallic-roughness core (base colour, metallic, roughness, dielectric IOR), which is carried over
 // with every other parameter at the target's default. A ggx fit's core is the metallic-roughness
 // match below. A converted material is not what was fitted, so its error on the original data is
-// computed and reported beside the fit's own.
+// computed and reported beside the fit's own, with its difference from the fit on a fixed set of
+// directions. A target that nests the source model converts parameter by parameter instead: a
+// `principled` fit (Burley's formulas) becomes a `mitsuba-principled` material of the same values,
+// which Mitsuba renders differently (exact Fresnel, Rec. 709 tints, its clearcoat normalisation).
 //
 // ggx → metallic-roughness (models/ggx.h: f = albedo/π + D·F·G/(4 n·l n·v), F Schlick of f0):
 //   glTF's material at normal incidence has diffuse reflectance (1-m)·0.96·base and specular F0
@@ -51,7 +54,7 @@ MaterialFormat material_format(const std::string& name, const std::string& path)
 // The models a format writes unchanged (gltf: gltf and gltf-specular).
 std::vector<std::string> native_models(MaterialFormat format);
 
-// A material of one of the renderer models (gltf, gltf-specular, openpbr, principled).
+// A material of one of the renderer models (gltf, gltf-specular, openpbr, principled, mitsuba-principled).
 struct Material {
   std::string name;
   std::string model;
@@ -77,6 +80,11 @@ struct MaterialExport {
   // Converted materials: both errors on the original data, all samples (NaN when it could not
   // be read; a warning then says why).
   double converted_error = NAN, source_error_on_data = NAN;
+  // Converted materials: the metric of the material against the fit's own shaded values on fixed
+  // directions (20,000 pairs uniform in solid angle, from a fixed seed): needs no data, so it is
+  // there when the original data cannot be read.
+  double converted_vs_fit = NAN;
+  std::string conversion;  // "unchanged", "parameter by parameter (...)" or "through the metallic-roughness core"
   std::vector<std::string> warnings;
   std::string text;  // the file's contents
 };
@@ -94,7 +102,7 @@ std::string mitsuba_document(const Material& material, const std::string& commen
 constexpr uint64_t kMaxMaterialFileBytes = uint64_t{16} << 20;
 
 // Materials read back from a .gltf, .mtlx or Mitsuba .xml file, each as the matching model
-// (gltf or gltf-specular, openpbr, principled). Inputs the model does not have (textures,
+// (gltf or gltf-specular, openpbr, mitsuba-principled). Inputs the model does not have (textures,
 // coat, ...) or holds fixed are reported in `warnings`. Throws Error naming the file when it
 // is not one of these formats, is larger than kMaxMaterialFileBytes or holds no material. Time
 // and memory are linear in the file's size.
