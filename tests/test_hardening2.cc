@@ -337,7 +337,8 @@ TEST(Hardening2, PublishedParametersAreCheckedAgainstTheBounds) {
                "roughness = " +
                    roughness + "))\n");
     const std::string message = error_of([&] { find_published_fits(dir + "/p.fit", "m1"); });
-    EXPECT_TRUE(contains(message, dir + "/p.fit: m1 (NganWard as ward): alpha must be at least 0.001, got " + roughness))
+    EXPECT_TRUE(
+        contains(message, dir + "/p.fit: m1 (NganWard as ward): alpha must be at least 0.001, got " + roughness))
         << message;
   }
 }
