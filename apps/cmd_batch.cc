@@ -152,6 +152,7 @@ struct BatchArgs {
   std::string loss = "none";
   bool per_channel = false;
   ConvergeArg converge;
+  FixArg fix;
   SamplingArgs sampling;
   std::string out = "brdffit-batch";
   int jobs = 1;
@@ -164,7 +165,8 @@ struct BatchArgs {
 void run_batch_command(const BatchArgs& args) {
   BatchOptions options;
   options.models = parse_model_list(args.models);
-  options.fit = fit_options(args.metric, args.loss, args.per_channel, args.threads, args.sampling.seed, args.converge);
+  options.fit =
+      fit_options(args.metric, args.loss, args.per_channel, args.threads, args.sampling.seed, args.converge, args.fix);
   options.sampling = args.sampling.options();
   options.out_dir = args.out;
   options.jobs = args.jobs;
@@ -306,6 +308,7 @@ void add_batch_commands(CLI::App& app) {
   batch_cmd->add_option("--loss", batch->loss, "Robust loss per sample: none, huber, cauchy");
   batch_cmd->add_flag("--per-channel", batch->per_channel, "Fit shape parameters per colour channel");
   batch->converge.add_to(batch_cmd);
+  batch->fix.add_to(batch_cmd);
   batch_cmd->add_option("-o,--out", batch->out, "Folder for the result documents and summary.{json,csv}");
   batch_cmd->add_option("-j,--jobs", batch->jobs, "Materials fitted at once")->check(kJobsRange);
   batch_cmd->add_option("--threads", batch->threads, "Threads per material (0: the cores shared among the jobs)")

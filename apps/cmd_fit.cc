@@ -51,7 +51,8 @@ void print_ranking(const std::vector<FitResult>& results, Metric metric) {
 // One row per model: status, verdict and metrics, then for every parameter of any model in the
 // run (first appearance order) one column per component (NAME, or NAME_r, NAME_g, NAME_b: a
 // parameter that is a colour in one model and a scalar in another has both), its stddevs
-// (NAME_stddev...) and two flags, NAME_at_bound and NAME_identifiable (1 or 0). A model without
+// (NAME_stddev...) and three flags, NAME_at_bound, NAME_identifiable and NAME_fixed (held by --fix)
+// (1 or 0). A model without
 // that parameter leaves its cells empty; an unknown stddev is empty too.
 std::string csv_table(const std::vector<FitResult>& results) {
   std::vector<std::pair<std::string, size_t>> columns;  // parameter name, components
@@ -67,7 +68,8 @@ std::string csv_table(const std::vector<FitResult>& results) {
   for (const auto& [name, components] : columns) {
     for (const std::string& c : component_names(name, components)) csv += "," + csv_field(c);
     for (const std::string& c : component_names(name + "_stddev", components)) csv += "," + csv_field(c);
-    csv += "," + csv_field(name + "_at_bound") + "," + csv_field(name + "_identifiable");
+    csv += "," + csv_field(name + "_at_bound") + "," + csv_field(name + "_identifiable") + "," +
+           csv_field(name + "_fixed");
   }
   csv += "\n";
   auto number = [](double x) { return std::isfinite(x) ? fmt::format("{:.9g}", x) : std::string(); };
@@ -82,12 +84,12 @@ std::string csv_table(const std::vector<FitResult>& results) {
                                     return e.name == name && e.value.size() == components;
                                   });
       if (p == r.parameters.end()) {
-        csv += std::string(2 * components + 2, ',');
+        csv += std::string(2 * components + 3, ',');
         continue;
       }
       for (double v : p->value) csv += "," + number(v);
       for (double s : p->stddev) csv += "," + number(s);
-      csv += fmt::format(",{},{}", p->at_bound ? 1 : 0, p->identifiable ? 1 : 0);
+      csv += fmt::format(",{},{},{}", p->at_bound ? 1 : 0, p->identifiable ? 1 : 0, p->fixed ? 1 : 0);
     }
     csv += "\n";
   }
@@ -103,6 +105,7 @@ struct FitArgs {
   int threads = 0;
   bool per_channel = false;
   ConvergeArg converge;
+  FixArg fix;
   std::string out, csv;
   bool json = false;
 };
@@ -110,7 +113,7 @@ struct FitArgs {
 void run_fit(const FitArgs& args) {
   check_outputs({args.data}, {args.out, args.csv});  // before the work, not after it
   FitOptions options =
-      fit_options(args.metric, args.loss, args.per_channel, args.threads, args.sampling.seed, args.converge);
+      fit_options(args.metric, args.loss, args.per_channel, args.threads, args.sampling.seed, args.converge, args.fix);
   const std::vector<const Model*> models = parse_model_list(args.models);
   const SampleSet data = load_samples(args.data, args.sampling.options());
   if (data.empty()) fail("{}: no samples left to fit (check --max-angle)", args.data);
@@ -218,6 +221,7 @@ void add_fit_commands(CLI::App& app) {
   fit_cmd->add_option("--loss", fit->loss, "Robust loss per sample: none, huber, cauchy");
   fit_cmd->add_flag("--per-channel", fit->per_channel, "Fit shape parameters per colour channel");
   fit->converge.add_to(fit_cmd);
+  fit->fix.add_to(fit_cmd);
   fit_cmd->add_option("--threads", fit->threads, "Threads (0: every core)")->check(kThreadsRange);
   fit_cmd->add_option("-o,--out", fit->out, "Write the result document (JSON)");
   fit_cmd->add_flag("--json", fit->json, "Print the result document on stdout instead of the ranking");

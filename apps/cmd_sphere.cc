@@ -48,6 +48,7 @@ struct SphereArgs {
   int threads = 0;
   PixelRules rules;
   ConvergeArg converge;
+  FixArg fix;
   std::string out, images_out, images_format = "png";
   bool json = false;
   uint64_t max_pixels = kDefaultMaxImagePixels;
@@ -134,7 +135,7 @@ void print_results(const std::vector<FitResult>& fits, const std::vector<PhotoEr
 
 void run_sphere(const SphereArgs& args) {
   set_max_image_pixels(args.max_pixels);
-  FitOptions options = fit_options(args.metric, args.loss, false, args.threads, args.seed, args.converge);
+  FitOptions options = fit_options(args.metric, args.loss, false, args.threads, args.seed, args.converge, args.fix);
   if (args.images_format != "png" && args.images_format != "exr")
     fail("--images-format: png or exr, not '{}'", args.images_format);
   const std::vector<const Model*> models = parse_model_list(args.models);
@@ -240,6 +241,7 @@ void add_sphere_commands(CLI::App& app) {
   sphere->add_option("--seed", args->seed, "Seed of the subset")->check(kSeedRange);
   sphere->add_option("--threads", args->threads, "Threads (0: every core)")->check(kThreadsRange);
   args->converge.add_to(sphere);
+  args->fix.add_to(sphere);
   sphere
       ->add_option("--max-angle", args->rules.max_angle_deg,
                    "Leave out pixels with θi or θo above this (degrees; default 80, unlike fit and batch: a sphere's "

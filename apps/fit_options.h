@@ -62,6 +62,38 @@ struct ConvergeArg {
   }
 };
 
+// --fix NAME=VALUE[,NAME=VALUE]: parameters held at known values in every model that has them
+// (FitOptions::fixed; the library checks the names and bounds against the models).
+struct FixArg {
+  std::string text;
+
+  void add_to(CLI::App* command) {
+    command->add_option("--fix", text,
+                        "Hold parameters at known values, NAME=VALUE[,NAME=VALUE] (metallic=0 for a dielectric, "
+                        "ior=1.5): in every model that has them, reported as fixed");
+  }
+  void apply(FitOptions& options) const {
+    size_t begin = 0;
+    while (!text.empty() && begin <= text.size()) {
+      const size_t end = std::min(text.find(',', begin), text.size());
+      const std::string item = text.substr(begin, end - begin);
+      const size_t equals = item.find('=');
+      size_t used = 0;
+      double value = NAN;
+      try {
+        if (equals != std::string::npos) value = std::stod(item.substr(equals + 1), &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (equals == std::string::npos || equals == 0 || used == 0 || used != item.size() - equals - 1 ||
+          !std::isfinite(value))
+        fail("--fix: '{}' is not NAME=VALUE (e.g. --fix metallic=0,ior=1.5)", item);
+      options.fixed.emplace_back(item.substr(0, equals), value);
+      begin = end + 1;
+    }
+  }
+};
+
 // NAME=VALUE±STDDEV with its flags. A poor fit's stddevs are left out: they measure how well the
 // data pin down a model that does not describe them, which is not a precision worth printing.
 inline std::string format_parameter(const ParameterEstimate& p, Verdict verdict) {
@@ -72,6 +104,7 @@ inline std::string format_parameter(const ParameterEstimate& p, Verdict verdict)
            std::any_of(p.stddev.begin(), p.stddev.end(), [](double s) { return std::isfinite(s); }))
     text += "±" + format_values(p.stddev, "{:.2g}");
   if (p.at_bound) text += " (at bound)";
+  if (p.fixed) text += " (fixed)";
   return text;
 }
 
@@ -102,7 +135,7 @@ inline LossKind loss_from(const std::string& name) {
 // The FitOptions of fit, sphere and batch, from their command-line values: the one place where
 // the fitting commands turn options into the fitter's settings.
 inline FitOptions fit_options(const std::string& metric, const std::string& loss, bool per_channel, int threads,
-                              uint64_t seed, const ConvergeArg& converge) {
+                              uint64_t seed, const ConvergeArg& converge, const FixArg& fix) {
   FitOptions options;
   options.metric = metric_from(metric);
   options.loss = loss_from(loss);
@@ -110,6 +143,7 @@ inline FitOptions fit_options(const std::string& metric, const std::string& loss
   options.threads = threads;
   options.seed = seed;
   converge.apply(options);
+  fix.apply(options);
   return options;
 }
 

@@ -171,7 +171,7 @@ LossKind loss_from(const std::string& name) {
 
 PyFitResults fit(const py::handle& data, const py::handle& models, const std::string& metric, const std::string& loss,
                  double loss_scale, bool per_channel, bool converge, int threads, uint64_t seed,
-                 const py::object& on_result, const py::object& on_iteration) {
+                 const py::object& on_result, const py::object& on_iteration, const py::object& fix) {
   py::object holder;
   const PySamples& samples = samples_of(data, holder);
   PyFitResults out;
@@ -184,6 +184,9 @@ PyFitResults fit(const py::handle& data, const py::handle& models, const std::st
   if (converge) out.options.polish_after = SIZE_MAX;  // as the CLI's --converge
   out.options.threads = threads;
   out.options.seed = seed;
+  if (!fix.is_none())
+    for (const auto& [name, value] : fix.cast<py::dict>())
+      out.options.fixed.emplace_back(py::str(name).cast<std::string>(), value.cast<double>());
   const std::vector<const Model*> list = models_from(models);
   if (out.data->empty()) fail("{}: no samples left to fit (check --max-angle)", out.input_path);
   // One call of the library's fit_models, which shares work between the models (the Lambert
@@ -233,6 +236,7 @@ void bind_fit(py::module_& m) {
           "(null in the JSON document).")
       .def_readonly("identifiable", &ParameterEstimate::identifiable, "False: the data do not determine it.")
       .def_readonly("at_bound", &ParameterEstimate::at_bound, "True: the optimum sits on a bound.")
+      .def_readonly("fixed", &ParameterEstimate::fixed, "True: held at a given value (fit's fix=), not fitted.")
       .def("__repr__", [](const ParameterEstimate& p) {
         return fmt::format("{}={}", p.name, py::str(value_or_tuple(p.value)).cast<std::string>());
       });
@@ -338,9 +342,9 @@ void bind_fit(py::module_& m) {
   m.def("fit", &fit, py::arg("data"), py::arg("models") = "all", py::arg("metric") = "cosine", py::arg("loss") = "none",
         py::arg("loss_scale") = 0.0, py::arg("per_channel") = false, py::arg("converge") = false,
         py::arg("threads") = 0, py::arg("seed") = 1, py::arg("on_result") = py::none(),
-        py::arg("on_iteration") = py::none(),
+        py::arg("on_iteration") = py::none(), py::arg("fix") = py::none(),
         R"(fit(data, models="all", metric="cosine", loss="none", loss_scale=0.0, per_channel=False,
-    converge=False, threads=0, seed=1, on_result=None, on_iteration=None) -> FitResults
+    converge=False, threads=0, seed=1, on_result=None, on_iteration=None, fix=None) -> FitResults
 
 Fits models to measured samples with the library's fitter, as `brdffit fit` does.
 
@@ -357,6 +361,10 @@ on_result    None, or a callable given each model's FitResult in turn once the f
 on_iteration None, or a callable given (model name, iteration) after each of the solver's
              iterations, while the fit waits (a progress display); an exception it raises
              stops the fit in that iteration and propagates.
+fix          None, or {name: value} of parameters held at known values in every model that has
+             them ({"metallic": 0} for a dielectric, {"ior": 1.5}): reported with fixed=True and
+             no stddev; the other parameters' uncertainties take them as exact. A name no model
+             has, or a value outside a model's bounds, raises brdffit.Error.
 
 Returns FitResults: one FitResult per model (a model that fails to fit is reported with
 status 'failed' and its error; the others are still fitted). Bad options or data raise

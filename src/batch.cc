@@ -146,8 +146,8 @@ std::optional<FitDocument> completed_document(const std::string& result_path, co
   }
   // The header a new fit would write, for the same input file and options.
   const nlohmann::json current = fit_document_json(material.path, SampleSet{}, options.fit, {});
-  for (const char* key : {"input", "metric", "per_channel", "loss"})
-    if (document.json.value(key, nlohmann::json()) != current[key]) return std::nullopt;
+  for (const char* key : {"input", "metric", "per_channel", "loss", "fixed"})
+    if (document.json.value(key, nlohmann::json()) != current.value(key, nlohmann::json())) return std::nullopt;
   for (const Model* model : options.models) {
     const FitResult* fit = find_result(document.results, model->name());
     if (!fit || !fit->ok) return std::nullopt;

@@ -18,6 +18,7 @@
 #include "brdffit/error.h"
 #include "brdffit/fit_objective.h"
 #include "brdffit/fit_residual.h"
+#include "brdffit/held_model.h"
 #include "brdffit/importance_subset.h"
 #include "brdffit/parallel.h"
 #include "brdffit/variable_projection.h"
@@ -829,9 +830,39 @@ FitResult fit_model(const Model& model, const SampleSet& data, const FitOptions&
   return fit_models({&model}, data, options).front();
 }
 
+namespace {
+
+// fit_one, with a fit that goes wrong reported as failed rather than thrown.
+FitResult fit_or_failure(const Model& model, const SampleSet& data, const FitOptions& options,
+                         const std::vector<ChannelVectors>& nested) {
+  FitResult result;
+  try {
+    result = fit_one(model, data, options, nested);
+  } catch (const Error&) {
+    throw;  // bad input or options: the same for every model
+  } catch (const std::exception& e) {
+    result.model = model.name();
+    result.error = e.what();
+    result.samples = data.size();
+  }
+  return result;
+}
+
+FitResult fit_held(const HeldModel& held, const SampleSet& data, const FitOptions& options) {
+  FitOptions own = options;
+  const int full_count = held.num_values() + held.held_count();
+  if (!own.initial_values.empty() && static_cast<int>(own.initial_values.size()) != full_count)
+    fail("{}: {} initial values given, the model has {}", held.name(), own.initial_values.size(), full_count);
+  if (!own.initial_values.empty()) own.initial_values = held.free_values(own.initial_values);
+  return held.full_result(fit_or_failure(held, data, own, {}));
+}
+
+}  // namespace
+
 std::vector<FitResult> fit_models(const std::vector<const Model*>& models, const SampleSet& data,
                                   const FitOptions& options) {
   check_fit_input(data);
+  check_held(models, options.fixed);
   // Every model fitted in this run, the requested ones and those they contain, by name.
   std::map<std::string, FitResult> fitted;
   std::set<std::string> in_progress;
@@ -855,23 +886,14 @@ std::vector<FitResult> fit_models(const std::vector<const Model*>& models, const
         embedded[c] = embed_values(model, nesting, *inner, r.channel_values.empty() ? r.values : r.channel_values[c]);
       nested.push_back(std::move(embedded));
     }
-    FitResult result;
-    try {
-      // A start given in the options is the requested models'; contained models fitted on the
-      // way (and the baseline) start from their own grids.
-      FitOptions own = options;
-      if (!requested(model.name())) {
-        own.initial_values.clear();
-        own.single_start = false;
-      }
-      result = fit_one(model, data, own, nested);
-    } catch (const Error&) {
-      throw;  // bad input or options: the same for every model
-    } catch (const std::exception& e) {
-      result.model = model.name();
-      result.error = e.what();
-      result.samples = data.size();
+    // A start given in the options is the requested models'; contained models fitted on the
+    // way (and the baseline) start from their own grids.
+    FitOptions own = options;
+    if (!requested(model.name())) {
+      own.initial_values.clear();
+      own.single_start = false;
     }
+    FitResult result = fit_or_failure(model, data, own, nested);
     in_progress.erase(model.name());
     return fitted.emplace(model.name(), std::move(result)).first->second;
   };
@@ -882,7 +904,9 @@ std::vector<FitResult> fit_models(const std::vector<const Model*>& models, const
   std::vector<FitResult> results;
   for (const Model* model : models) {
     if (options.on_model_start) options.on_model_start(results.size(), models.size(), model->name());
-    FitResult r = fit(*model);
+    // Held parameters (FitOptions::fixed): the model of the others, fitted on its own.
+    const HeldModel held(*model, options.fixed);
+    FitResult r = held.holds_any() ? fit_held(held, data, options) : fit(*model);
     judge(*model, baseline, zero_error, options.metric, data.isotropic, r);
     results.push_back(std::move(r));
   }

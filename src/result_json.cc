@@ -238,11 +238,13 @@ int count_poor(const std::vector<FitResult>& results) {
 
 nlohmann::json fit_result_json(const FitResult& result) {
   nlohmann::json parameters = nlohmann::json::object();
-  for (const ParameterEstimate& p : result.parameters)
+  for (const ParameterEstimate& p : result.parameters) {
     parameters[p.name] = {{"value", numbers(p.value)},
                           {"stddev", numbers(p.stddev)},
                           {"identifiable", p.identifiable},
                           {"at_bound", p.at_bound}};
+    if (p.fixed) parameters[p.name]["fixed"] = true;  // held at a given value (--fix): not fitted
+  }
   nlohmann::json out = {{"model", result.model},
                         {"status", result.ok ? "ok" : "failed"},
                         {"verdict", verdict_name(result.verdict)},
@@ -271,15 +273,18 @@ nlohmann::json fit_document_json(const std::string& input_path, const SampleSet&
   }
   nlohmann::json input = {{"sha256", sha256.empty() ? nlohmann::json(nullptr) : nlohmann::json(sha256)}};
   put_name(input, "path", absolute_path(input_path));
-  return {{"schema", kSchema},
-          {"tool", "brdffit " BRDFFIT_VERSION},
-          {"input", input},
-          {"samples", data.size()},
-          {"weighting", data.weighting},
-          {"metric", metric_name(options.metric)},
-          {"per_channel", options.per_channel},
-          {"loss", loss_name(options.loss)},
-          {"models", models}};
+  nlohmann::json document = {{"schema", kSchema},
+                             {"tool", "brdffit " BRDFFIT_VERSION},
+                             {"input", input},
+                             {"samples", data.size()},
+                             {"weighting", data.weighting},
+                             {"metric", metric_name(options.metric)},
+                             {"per_channel", options.per_channel},
+                             {"loss", loss_name(options.loss)},
+                             {"models", models}};
+  // Parameters held at given values (--fix), only when there are any: documents without stay as they were.
+  for (const auto& [name, value] : options.fixed) document["fixed"][name] = value;
+  return document;
 }
 
 FitDocument read_fit_document(const std::string& path) {
@@ -334,6 +339,7 @@ FitDocument read_fit_document(const std::string& path) {
         e.stddev = read_numbers(p.at("stddev"));
         e.identifiable = p.value("identifiable", true);
         e.at_bound = p.value("at_bound", false);
+        e.fixed = p.value("fixed", false);
         r.parameters.push_back(e);
       }
       validate_result(r, *model, where);

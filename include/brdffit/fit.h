@@ -11,6 +11,7 @@
 #include <atomic>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "brdffit/metric.h"
@@ -39,6 +40,11 @@ struct FitOptions {
   uint64_t seed = 1;                   // for the subsample
   bool single_start = false;           // one refinement from the initial values on all samples
   std::vector<double> initial_values;  // flattened start; empty: the model's defaults
+  // Parameters held at known values (a dielectric's metallic 0, a known ior 1.5), by name, in every
+  // model of the run that has the parameter (every channel of a colour): the fit is that of the
+  // remaining parameters, whose standard deviations take the held ones as exact. fit_models
+  // throws Error for a name no model of the run has, or a value outside a model's bounds.
+  std::vector<std::pair<std::string, double>> fixed;
   // Set to true by another thread to stop the fit: fit_models then throws Cancelled within one
   // solver iteration or grid (a fraction of a second). Null: the fit runs to its end.
   const std::atomic<bool>* cancel = nullptr;
@@ -58,6 +64,7 @@ struct ParameterEstimate {
   std::vector<double> stddev;  // NaN where not identifiable or not estimated
   bool identifiable = true;    // false: the data do not determine this parameter
   bool at_bound = false;       // the optimum sits on a bound (its stddev is only indicative)
+  bool fixed = false;          // held at a given value (FitOptions::fixed): not fitted, no stddev
 };
 
 // Whether a fit describes its data (see verdict_for in fit.cc for the thresholds):

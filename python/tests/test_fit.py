@@ -241,3 +241,18 @@ def test_save_refuses_its_input_and_names_are_bytes(tmp_path):
     results.save(tmp_path / "doc.json")
     document = json.loads((tmp_path / "doc.json").read_text())
     assert bytes.fromhex(document["input"]["path_bytes"]) == os.fsencode(table)
+
+
+def test_fix_holds_a_known_parameter():
+    truth = {"baseColor": (0.6, 0.3, 0.2), "metallic": 0.0, "roughness": 0.4}
+    rng = np.random.default_rng(5)
+    light, view = hemisphere_directions(rng, 1500), hemisphere_directions(rng, 1500)
+    shaded, _ = brdffit.eval("gltf", truth, light, view)
+    data = brdffit.samples(light, view, shaded)
+    gltf = brdffit.fit(data, models="gltf", fix={"metallic": 0})["gltf"]
+    metallic = gltf.parameters["metallic"]
+    assert metallic.fixed and metallic.value == 0.0 and math.isnan(metallic.stddev)
+    assert not gltf.parameters["roughness"].fixed
+    assert gltf.parameters["roughness"].value == pytest.approx(0.4, rel=1e-4)
+    with pytest.raises(brdffit.Error, match="--fix metallic=2: outside the gltf model's bounds"):
+        brdffit.fit(data, models="gltf", fix={"metallic": 2})

@@ -181,7 +181,7 @@ struct MitsubaPrincipled {
           {"clearcoat_gloss", "clearcoatGloss"}},
          {},
          /*exact=*/false,
-         "Burley's parameters copied by name (Mitsuba's plugin evaluates other Fresnel, tint and clearcoat terms)"}};
+         "Burley's parameters copied by name; the plugin evaluates other Fresnel, tint and clearcoat terms"}};
   }
 };
 
