@@ -56,6 +56,15 @@ T beckmann_ndf(double cos_theta_h, const T& m) {
 // is unchanged by φ₀ + 180°, and by φ₀ + 90° with its x and y widths exchanged, so [0°, 90°]
 // holds every lobe once (a lobe turned by 120° is found at 30° with its widths exchanged) and
 // fits of the same data agree.
+// Schlick's weight (1 - u)⁵ with u clamped to [0, 1] (u = a cosine), as Burley's and Mitsuba's
+// principled materials write their Fresnel and retro-reflection terms.
+template <class T>
+T schlick_weight(const T& u) {
+  const T m = saturate(T(1.0 - u));
+  const T m2 = m * m;
+  return m2 * m2 * m;
+}
+
 inline ParamSpec tangent_rotation_param() {
   return {"phi0",
           1,

@@ -84,13 +84,6 @@ struct MitsubaPrincipled {
         {"clearcoat_gloss", 1, 0.0, 1.0, 0.0, "clearcoat glossiness: GTR1 a = mix(0.1, 0.001, clearcoat_gloss)"}};
   }
 
-  template <class T>
-  static T schlick_weight(const T& u) {
-    const T m = saturate(T(1.0 - u));
-    const T m2 = m * m;
-    return m2 * m2 * m;
-  }
-
   // Smith's G1 for isotropic GGX: 2/(1 + √(1 + α² tan²θw)); 1 at normal incidence.
   template <class T>
   static T smith_g1(const Vec3& w, const T& alpha) {

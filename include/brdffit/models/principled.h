@@ -66,13 +66,6 @@ struct Principled {
         {"clearcoatGloss", 1, 0.0, 1.0, 1.0, "clearcoat glossiness: GTR1 a = mix(0.1, 0.001, clearcoatGloss)"}};
   }
 
-  template <class T>
-  static T schlick_weight(const T& u) {
-    const T m = saturate(T(1.0 - u));
-    const T m2 = m * m;
-    return m2 * m2 * m;
-  }
-
   // 1 / (n·w + √((w·x αx)² + (w·y αy)² + (n·w)²)): Smith G1/(2 n·w) for anisotropic GGX.
   template <class T>
   static T smith_g_ggx(const Vec3& w, const T& ax, const T& ay) {
