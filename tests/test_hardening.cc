@@ -10,6 +10,7 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <thread>
 
 #include "batch_test_util.h"
 #include "brdffit/batch.h"
@@ -179,12 +180,19 @@ TEST(Hardening, OutputsThatAreInputsOrEachOtherAreRefused) {
 
 TEST(Hardening, AtomicWritesCreateTemporariesExclusivelyAndOnlyReplaceRegularFiles) {
   const std::string dir = fresh_dir("hardening-atomic");
-  // A FIFO (or a device) as the output is refused, not replaced.
+  // A FIFO as the output is written through, not replaced: a reader on the other end gets the
+  // bytes, and the FIFO stays (issue 22: pipes and terminals are streams, not files to rename over).
   ASSERT_EQ(::mkfifo((dir + "/fifo").c_str(), 0644), 0);
-  EXPECT_NE(error_of([&] { write_file_atomic(dir + "/fifo", "x"); }).find("a FIFO"), std::string::npos);
+  std::string received;
+  std::thread reader([&] { received = slurp(dir + "/fifo"); });  // opening blocks until the writer opens
+  write_file_atomic(dir + "/fifo", "x");
+  reader.join();
+  EXPECT_EQ(received, "x");
   struct stat info;
   ASSERT_EQ(::lstat((dir + "/fifo").c_str(), &info), 0);
   EXPECT_TRUE(S_ISFIFO(info.st_mode));
+  // A device other than /dev/null is refused.
+  EXPECT_NE(error_of([&] { write_file_atomic("/dev/zero", "x"); }).find("not a regular file"), std::string::npos);
   // A link planted at the old predictable temporary name is not followed.
   write_text(dir + "/victim", "precious");
   const std::string old_temp = dir + "/out.json.tmp." + std::to_string(::getpid());
@@ -203,9 +211,10 @@ TEST(Hardening, AtomicWritesCreateTemporariesExclusivelyAndOnlyReplaceRegularFil
   ::umask(mask);
   EXPECT_EQ(info.st_mode & 0777, 0666 & ~mask);
   // Images go through the same mechanism.
-  EXPECT_NE(
-      error_of([&] { write_image(dir + "/fifo", cv::Mat(4, 4, CV_32FC3, cv::Scalar(0.5, 0.5, 0.5))); }).find("a FIFO"),
-      std::string::npos);
+  EXPECT_NE(error_of([&] {
+              write_image("/dev/zero", cv::Mat(4, 4, CV_32FC3, cv::Scalar(0.5, 0.5, 0.5)));
+            }).find("not a regular file"),
+            std::string::npos);
 }
 
 // --resume removing only brdffit's own temporaries: Hardening2.ResumeRemovesOnlyTemporariesBrdffitCreated.
