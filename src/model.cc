@@ -83,6 +83,19 @@ std::vector<double> embed_values(const Model& outer, const Nesting& nesting, con
   return values;
 }
 
+const Nesting* isotropic_form(const Model& model) {
+  auto is_orientation = [&](const std::string& name) {
+    const ParamSpec* p = model.find_parameter(name);
+    return p && p->role == Role::Orientation;
+  };
+  for (const Nesting& nesting : model.nestings()) {
+    if (!nesting.exact || nesting.fixed.empty()) continue;
+    if (std::all_of(nesting.fixed.begin(), nesting.fixed.end(), [&](const auto& f) { return is_orientation(f.first); }))
+      return &nesting;
+  }
+  return nullptr;
+}
+
 namespace {
 const Model* find_registered(const std::string& name) {
   for (const auto& m : all_models())

@@ -83,6 +83,12 @@ class Model {
 std::vector<double> embed_values(const Model& outer, const Nesting& nesting, const Model& inner,
                                  const std::vector<double>& inner_values);
 
+// The model's isotropic form: its exact nesting that holds only the lobe's orientation
+// (Role::Orientation) and copies every other parameter from the contained isotropic model (ggx-aniso's
+// ggx, α_x = α_y = roughness²). The fitter fits that form in the model's place on isotropic data.
+// nullptr when the model has no orientation or declares no such nesting.
+const Nesting* isotropic_form(const Model& model);
+
 // Every model brdffit knows, in a stable order.
 const std::vector<std::unique_ptr<Model>>& all_models();
 // The model with this CLI name, or nullptr. "FIRST+SECOND" names two lobes over one Lambert
