@@ -16,15 +16,17 @@
 //  3. The diffuse term is weighted per channel by 1 - F(v·h) of the dielectric f0 with the
 //     metallic mix of f90 (three.js's specularF90), where KHR_materials_specular takes the largest
 //     channel of F with the dielectric's own f90 = specular. Identical for core glTF (grey f0,
-//     f90 = 1); under 1 % for the gltf-specular material here.
+//     f90 = 1); a fraction of a percent for the gltf-specular material here, 12 % for a fit with a
+//     strongly tinted specularColor (RGL's acrylic felt green: [1, 0.16, 0] at ior 2.6).
 //  4. Float32 shading on interpolated vertex normals of a 720x360 SphereGeometry: angular error
 //     under 1e-4 rad, about 1e-4 relative in the shading.
-// With these written in, the three.js picture must match to kModelTolerance (E's table is the
-// one thing approximated: E is integrated here at the table's texel centres and interpolated the
-// same way, the half-float storage and three's sampling of E leave a few tenths of a percent).
-// Against the specification, the tolerance is the departure the model predicts at these pixels
-// plus kModelTolerance: departures 1-3 are what three.js is documented to draw, so the difference
-// they predict is the difference allowed, and no more.
+// With these written in, the three.js picture must match to kModelTolerance, 0.5 % (measured:
+// 0.04 %): E's table is the one thing approximated (E is integrated here at the table's texel
+// centres and interpolated the same way; its half-float storage and three's own integration of E
+// remain). Against the specification, the tolerance is the departure the model predicts at these
+// pixels plus kModelTolerance: departures 1-3 are what three.js is documented to draw, so the
+// difference they predict is the difference allowed, and no more. Measured at kSize 256:
+// gltf 0.66 % mean per channel over the lit pixels, gltf-specular 1.34 %.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -39,7 +41,7 @@ namespace brdffit {
 namespace {
 
 constexpr int kSize = 256;                 // pixels; the sphere's radius is kSize/2 - 1
-constexpr double kModelTolerance = 0.01;   // three.js against its documented departures, mean relative
+constexpr double kModelTolerance = 0.005;  // three.js against its documented departures, mean relative
 const Vec3 kLight = Vec3(-1.0, 1.0, 2.0);  // brdffit render's default light, upper left
 
 // A glTF material as the specification and three.js both read it.
