@@ -105,7 +105,8 @@ const server = http.createServer((request, response) => {
   response.end(file ? fs.readFileSync(file) : page);
 });
 server.listen(0, '127.0.0.1', () => {
-  const profile = fs.mkdtempSync(path.join(require('os').tmpdir(), 'brdffit-three-'));
+  // Beside the output, left there: Chromium's helper processes may still write to it after it exits.
+  const profile = fs.mkdtempSync(path.join(path.dirname(path.resolve(outFile)), 'chromium-profile-'));
   browser = spawn(chromium, ['--headless', '--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
                              '--no-first-run', '--disable-background-networking', '--disable-component-update',
                              '--disable-sync', '--enable-logging=stderr', '--user-data-dir=' + profile, '--remote-debugging-port=0',
@@ -114,7 +115,6 @@ server.listen(0, '127.0.0.1', () => {
   let log = '';
   browser.stderr.on('data', (chunk) => (log += chunk));
   browser.on('exit', (code) => {
-    fs.rmSync(profile, {recursive: true, force: true});
     if (process.exitCode === undefined) finish(1, `chromium exited (${code}) before the page answered:\n${log}`);
   });
   setTimeout(() => finish(1, 'no answer from the page in 60 s:\n' + log), 60000).unref();
