@@ -82,7 +82,6 @@ const finish = (status, message) => {
 };
 const server = http.createServer((request, response) => {
   const url = decodeURIComponent(request.url.split('?')[0]);
-  if (process.env.DEBUG_THREE) console.error(request.method, url);
   if (request.method === 'POST' && url === '/result') {
     const chunks = [];
     request.on('data', (chunk) => chunks.push(chunk));
@@ -96,11 +95,10 @@ const server = http.createServer((request, response) => {
     });
     return;
   }
-  let file = null;
-  if (url === '/') file = null;
-  else if (url === '/material.gltf') file = gltfFile;
+  let file = null;  // the page itself
+  if (url === '/material.gltf') file = gltfFile;
   else if (url.startsWith('/three/') && !url.includes('..')) file = path.join(threeDir, url.slice('/three/'.length));
-  else return response.writeHead(404).end();
+  else if (url !== '/') return response.writeHead(404).end();
   response.setHeader('Content-Type', file ? types[path.extname(file)] || 'application/octet-stream' : 'text/html');
   response.end(file ? fs.readFileSync(file) : page);
 });
@@ -109,7 +107,8 @@ server.listen(0, '127.0.0.1', () => {
   const profile = fs.mkdtempSync(path.join(path.dirname(path.resolve(outFile)), 'chromium-profile-'));
   browser = spawn(chromium, ['--headless', '--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
                              '--no-first-run', '--disable-background-networking', '--disable-component-update',
-                             '--disable-sync', '--enable-logging=stderr', '--user-data-dir=' + profile, '--remote-debugging-port=0',
+                             '--disable-sync', '--enable-logging=stderr',  // the page's console, shown on failure
+                             '--user-data-dir=' + profile, '--remote-debugging-port=0',
                              `http://127.0.0.1:${server.address().port}/`],
                   {stdio: ['ignore', 'ignore', 'pipe']});
   let log = '';
