@@ -31,10 +31,15 @@ if ((${#missing[@]})); then
   DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
 fi
 
-# The Khronos glTF-Validator (npm), pinned, into .deps/npm of this checkout (tests/tools/validate_gltf.js).
-gltf_validator="gltf-validator@2.0.0-dev.3.10"
+# npm packages, pinned, into .deps/npm of this checkout: the Khronos glTF-Validator
+# (tests/tools/validate_gltf.js) and three.js, the renderer that draws exported glTF in headless
+# Chromium (tests/tools/render_gltf_three.js; its shading departures from the glTF BRDF are
+# written down in tests/test_gltf_renderer.cc, so a new version is a reviewed change).
 npm_prefix="$(cd "$(dirname "$0")/.." && pwd)/.deps/npm"
-if [[ ! -f "$npm_prefix/node_modules/gltf-validator/package.json" ]]; then
-  echo "install-deps: installing $gltf_validator (npm) into $npm_prefix"
-  npm install --prefix "$npm_prefix" --no-audit --no-fund --loglevel=error "$gltf_validator"
-fi
+for package in gltf-validator@2.0.0-dev.3.10 three@0.187.0; do
+  name="${package%@*}" version="${package##*@}"
+  if ! grep -q "\"version\": \"$version\"" "$npm_prefix/node_modules/$name/package.json" 2>/dev/null; then
+    echo "install-deps: installing $package (npm) into $npm_prefix"
+    npm install --prefix "$npm_prefix" --no-audit --no-fund --loglevel=error "$package"
+  fi
+done

@@ -56,6 +56,14 @@ inline FitResult known_result(const std::string& model, double cosine, std::opti
   return r;
 }
 
+// A fit with known values and a good verdict.
+inline FitResult fit_of(const std::string& model, const std::vector<std::string>& assignments, double cosine = 0.0123) {
+  FitResult fit = known_result(model, cosine);
+  fit.values = parameter_values(*find_model(model), assignments);
+  fit.verdict = Verdict::Good;
+  return fit;
+}
+
 // A result document for `input` holding the given results, written to `path`.
 inline std::string write_document(const std::string& path, const std::string& input,
                                   const std::vector<FitResult>& results) {

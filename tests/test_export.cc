@@ -60,24 +60,7 @@ TEST(ExportMapping, ApproximatesWhatGltfCannotHold) {
   EXPECT_LE(metallic_roughness({1.0, 1.0, 1.0}, {0.04, 0.04, 0.04}, 1.0).base_color.maxCoeff(), 1.0);
 }
 
-// A fit with known values and a good verdict.
-FitResult fit_of(const std::string& model, const std::vector<std::string>& assignments, double cosine = 0.0123) {
-  FitResult fit = test::known_result(model, cosine);
-  fit.values = parameter_values(*find_model(model), assignments);
-  fit.verdict = Verdict::Good;
-  return fit;
-}
-
-bool have_tool(const std::string& name) { return test::run_command("command -v " + name).exit_code == 0; }
-
-// Skips (outside CI) or fails (CI) when an ecosystem's checking tool is missing.
-#define REQUIRE_TOOL(available, what)                                                                   \
-  do {                                                                                                  \
-    if (!(available)) {                                                                                 \
-      if (test::running_in_ci()) FAIL() << what << " is missing (scripts/install-deps.sh installs it)"; \
-      GTEST_SKIP() << what << " is not installed (scripts/install-deps.sh installs it)";                \
-    }                                                                                                   \
-  } while (0)
+using test::fit_of;
 
 const std::vector<std::string> kGltfSpecular = {
     "baseColor=0.8,0.5,0.25", "metallic=0.3", "roughness=0.45", "ior=1.7", "specular=0.8", "specularColor=1,0.9,0.7"};
@@ -288,7 +271,7 @@ std::set<std::string> names_in(const std::string& text, const std::string& eleme
 const std::string kHostileInput = "/data/a<b>&c--d\x01\x1b.binary";
 
 TEST(ExportTools, XmlIsWellFormedWithThePluginsNames) {
-  REQUIRE_TOOL(have_tool("xmllint"), "xmllint (Debian libxml2-utils)");
+  REQUIRE_TOOL(test::have_tool("xmllint"), "xmllint (Debian libxml2-utils)");
   const std::string dir = test::fresh_dir("export-xml");
   const std::string doc =
       test::write_document(dir + "/hostile.json", kHostileInput,
@@ -313,8 +296,8 @@ TEST(ExportTools, XmlIsWellFormedWithThePluginsNames) {
 }
 
 TEST(ExportTools, KhronosValidatorFindsNothing) {
-  const std::string module_dir = std::string(BRDFFIT_SOURCE_DIR) + "/.deps/npm/node_modules";
-  REQUIRE_TOOL(have_tool("node") && std::filesystem::exists(module_dir + "/gltf-validator"),
+  const std::string module_dir = test::npm_modules();
+  REQUIRE_TOOL(test::have_tool("node") && std::filesystem::exists(module_dir + "/gltf-validator"),
                "node with the npm package gltf-validator");
   const std::string dir = test::fresh_dir("export-validator");
   const std::string doc =

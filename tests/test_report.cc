@@ -218,16 +218,8 @@ TEST(SphereReport, ShowsThePhotographsBesideTheBestFitUnderTheSameLight) {
   }
 }
 
-std::string find_chromium() {
-  for (const char* name : {"chromium", "chromium-browser"}) {
-    const test::CommandResult r = test::run_command(std::string("command -v ") + name);
-    if (r.exit_code == 0 && !r.output.empty()) return r.output.substr(0, r.output.find('\n'));
-  }
-  return "";
-}
-
 TEST_F(Report, ChromiumLoadsThePageWithEveryImage) {
-  const std::string chromium = find_chromium();
+  const std::string chromium = test::find_chromium();
   if (chromium.empty() && test::running_in_ci()) FAIL() << "chromium is missing (CI installs it)";
   if (chromium.empty())
     GTEST_SKIP() << "chromium is not installed (scripts/install-deps.sh installs it with BRDFFIT_WITH_CHROMIUM=1)";

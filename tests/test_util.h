@@ -181,6 +181,30 @@ inline CommandResult run_cli(const std::string& arguments) {
   return run_command(std::string(BRDFFIT_CLI) + " " + arguments);
 }
 
+// Whether a command is on the PATH.
+inline bool have_tool(const std::string& name) { return run_command("command -v " + name).exit_code == 0; }
+
+// Debian's Chromium (scripts/install-deps.sh with BRDFFIT_WITH_CHROMIUM=1), "" when absent.
+inline std::string find_chromium() {
+  for (const char* name : {"chromium", "chromium-browser"}) {
+    const CommandResult r = run_command(std::string("command -v ") + name);
+    if (r.exit_code == 0 && !r.output.empty()) return r.output.substr(0, r.output.find('\n'));
+  }
+  return "";
+}
+
+// The npm packages scripts/install-deps.sh installs (NODE_PATH for node).
+inline std::string npm_modules() { return std::string(BRDFFIT_SOURCE_DIR) + "/.deps/npm/node_modules"; }
+
+// Skips (outside CI) or fails (CI) when an ecosystem's checking tool is missing.
+#define REQUIRE_TOOL(available, what)                                                                              \
+  do {                                                                                                             \
+    if (!(available)) {                                                                                            \
+      if (::brdffit::test::running_in_ci()) FAIL() << what << " is missing (scripts/install-deps.sh installs it)"; \
+      GTEST_SKIP() << what << " is not installed (scripts/install-deps.sh installs it)";                           \
+    }                                                                                                              \
+  } while (0)
+
 // A command line and a part of the error message it must print.
 struct CliErrorCase {
   std::string args, message;
