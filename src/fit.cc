@@ -870,8 +870,8 @@ FitResult in_isotropic_form(const Model& model, const Nesting& form, const Model
   for (const ParamSpec& p : model.parameters()) {
     ParameterEstimate e;
     e.name = p.name;
-    const auto copy = std::find_if(form.copies.begin(), form.copies.end(),
-                                   [&](const Nesting::Copy& c) { return c.to == p.name; });
+    const auto copy =
+        std::find_if(form.copies.begin(), form.copies.end(), [&](const Nesting::Copy& c) { return c.to == p.name; });
     const auto source = copy == form.copies.end()
                             ? inner_fit.parameters.end()
                             : std::find_if(inner_fit.parameters.begin(), inner_fit.parameters.end(),
@@ -884,7 +884,9 @@ FitResult in_isotropic_form(const Model& model, const Nesting& form, const Model
       e.identifiable = source->identifiable;
       for (size_t i = 0; i < source->value.size(); ++i) {
         const double x = source->value[i], dx = 1e-6 * std::max(1.0, std::abs(x));
-        auto to_outer = [&](double inner_value) { return copy->transform ? copy->transform(inner_value) : inner_value; };
+        auto to_outer = [&](double inner_value) {
+          return copy->transform ? copy->transform(inner_value) : inner_value;
+        };
         e.value.push_back(to_outer(x));
         e.stddev.push_back(source->stddev[i] * std::abs(to_outer(x + dx) - to_outer(x - dx)) / (2.0 * dx));
         e.at_bound = e.at_bound || at_bound(p, e.value.back());

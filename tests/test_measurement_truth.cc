@@ -262,9 +262,8 @@ TEST(Symmetry, AnAnisotropicModelFittedToIsotropicDataComesOutIsotropicWithNoOri
   const SampleSet set = load_samples(path, sampling);
   FitOptions options;
   options.threads = 2;
-  const std::vector<FitResult> fits =
-      fit_models({find_model("ggx"), find_model("ggx-aniso"), find_model("ward"), find_model("ward-aniso")}, set,
-                 options);
+  const std::vector<FitResult> fits = fit_models(
+      {find_model("ggx"), find_model("ggx-aniso"), find_model("ward"), find_model("ward-aniso")}, set, options);
   for (const auto& [iso, aniso] : {std::pair{fits[0], fits[1]}, std::pair{fits[2], fits[3]}}) {
     SCOPED_TRACE(aniso.model);
     ASSERT_TRUE(aniso.ok) << aniso.error;
