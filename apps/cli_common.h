@@ -120,13 +120,15 @@ inline void check_table_argument(const std::string& path, const std::string& com
   for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   for (const char* image : {".png", ".jpg", ".jpeg", ".exr", ".hdr", ".tif", ".tiff"})
     if (extension == image)
-      fail_usage("{}: a photograph; {} takes a measured table (MERL, RGL, CSV); `brdffit sphere {} --lights FILE` "
-                 "fits photographs of a sphere",
-                 path, command, path);
+      fail_usage(
+          "{}: a photograph; {} takes a measured table (MERL, RGL, CSV); `brdffit sphere {} --lights FILE` "
+          "fits photographs of a sphere",
+          path, command, path);
   if (extension == ".json")
-    fail_usage("{}: a result document, not a measured table ({} takes the table it was fitted to; render, report, "
-               "export and compare read result documents)",
-               path, command);
+    fail_usage(
+        "{}: a result document, not a measured table ({} takes the table it was fitted to; render, report, "
+        "export and compare read result documents)",
+        path, command);
 }
 
 // The inputs of compare, report and export are result documents (or folders of them): a measured
@@ -225,7 +227,8 @@ class ModelProgress {
     const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
     // Models differ in cost by a factor of a hundred: the ETA is the rate so far, no more.
     const std::string eta = index > 0 ? ", ETA " + duration_text(elapsed / index * (count - index)) : "";
-    const std::string line = fmt::format("[{}/{}] fitting {}  {}{}", index + 1, count, model, duration_text(elapsed), eta);
+    const std::string line =
+        fmt::format("[{}/{}] fitting {}  {}{}", index + 1, count, model, duration_text(elapsed), eta);
     if (lines_) return stage("{}", line);
     rewind_line();
     say(stderr, "{}", line);

@@ -60,7 +60,7 @@ class RepeatedWarnings {
 
  private:
   std::vector<std::pair<std::string, std::string>> order_;  // kind, its first line
-  std::map<std::string, size_t> repeats_;                     // kind, how many more
+  std::map<std::string, size_t> repeats_;                   // kind, how many more
 };
 
 // Progress of a batch on stderr: a line per finished material, and on a terminal a bar below
@@ -70,10 +70,7 @@ class RepeatedWarnings {
 class BatchProgress {
  public:
   BatchProgress(size_t total, Metric metric, bool terminal)
-      : total_(total),
-        metric_(metric),
-        terminal_(terminal && verbosity() != Verbosity::Quiet),
-        start_(Clock::now()) {}
+      : total_(total), metric_(metric), terminal_(terminal && verbosity() != Verbosity::Quiet), start_(Clock::now()) {}
 
   void started(const BatchMaterial& material) {
     const std::lock_guard<std::mutex> lock(mutex_);
@@ -235,17 +232,20 @@ void run_batch_command(const BatchArgs& args) {
   if (shard) {
     const size_t all = materials.size();
     materials = shard_materials(materials, *shard);
-    inform(stdout, "batch: shard {}/{}: {} of {}\n", shard->index, shard->count, materials.size(), count_of(all, "material"));
+    inform(stdout, "batch: shard {}/{}: {} of {}\n", shard->index, shard->count, materials.size(),
+           count_of(all, "material"));
   }
   check_batch_keeps_models(materials, options);  // before anything is fitted (every MPI rank alike)
 #ifdef BRDFFIT_MPI_BATCH
   if (prints)
     inform(stdout, "batch: {} x {} over {} MPI ranks, one material at a time each; results in {}\n",
-        count_of(materials.size(), "material"), count_of(options.models.size(), "model"), ranks.size() - 1, args.out);
+           count_of(materials.size(), "material"), count_of(options.models.size(), "model"), ranks.size() - 1,
+           args.out);
 #else
   const BatchPlan plan = plan_batch(options, materials.size());
-  inform(stdout, "batch: {} x {}, {} at a time with {} threads each; results in {}\n", count_of(materials.size(), "material"),
-      count_of(options.models.size(), "model"), plan.jobs, plan.threads, args.out);
+  inform(stdout, "batch: {} x {}, {} at a time with {} threads each; results in {}\n",
+         count_of(materials.size(), "material"), count_of(options.models.size(), "model"), plan.jobs, plan.threads,
+         args.out);
 #endif
   std::fflush(stdout);
 

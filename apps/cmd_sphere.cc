@@ -145,7 +145,7 @@ void run_sphere(const SphereArgs& args) {
   apply_sampling_options(fitted, SamplingOptions{90.0, args.max_samples, args.seed});
   if (!args.json)
     inform(stdout, "fitting {} of {} samples ({} loss)\n", fitted.size(), observation.samples.size(),
-        args.loss == "none" ? "no robust" : args.loss);
+           args.loss == "none" ? "no robust" : args.loss);
 
   ModelProgress progress;
   progress.attach(options);
@@ -222,8 +222,8 @@ void add_sphere_commands(CLI::App& app) {
       "--gamma", args->gamma, "Decode every image as value^GAMMA, or 'srgb' (default: 8-bit sRGB, deeper linear)");
   sphere->add_flag("--linear", args->linear, "Every image is linear, 8-bit ones too")->excludes(gamma);
   add_models_option(sphere, args->models,
-                    "Comma-separated models, or 'all' (default: five that span diffuse to glossy; fit and batch "
-                    "take all, a photograph set rarely pins down the many-parameter ones)");
+                    "Comma-separated models, or 'all' (default: five that span diffuse to glossy; batch takes all, "
+                    "fit six; a photograph set rarely pins down the many-parameter ones)");
   sphere->add_option("--metric", args->metric, "What to minimise: cosine, log, relative, l2");
   sphere->add_option("--loss", args->loss,
                      "Robust loss per sample: none, huber, cauchy (default huber, unlike fit and batch: photographs "

@@ -132,7 +132,8 @@ inline LossKind loss_from(const std::string& name) {
   if (name == "none") return LossKind::None;
   if (name == "huber") return LossKind::Huber;
   if (name == "cauchy") return LossKind::Cauchy;
-  fail_usage("--loss: unknown loss '{}'{} (none, huber, cauchy)", name, did_you_mean(name, {"none", "huber", "cauchy"}));
+  fail_usage("--loss: unknown loss '{}'{} (none, huber, cauchy)", name,
+             did_you_mean(name, {"none", "huber", "cauchy"}));
 }
 
 // The FitOptions of fit, sphere and batch, from their command-line values: the one place where

@@ -19,7 +19,7 @@ int main(int argc, char** argv) {
   using brdffit::cli::Exit;
   try {
     brdffit::cli::add_commands(app, argc, argv);  // brdffit or brdffit-imaging's (commands.h)
-    brdffit::cli::add_common_options(app);  // -q, -v and the exit statuses, on every command
+    brdffit::cli::add_common_options(app);        // -q, -v and the exit statuses, on every command
     brdffit::cli::check_command_name(app, argc, argv);
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

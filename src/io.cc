@@ -113,13 +113,16 @@ void check_can_create(const std::string& path, bool folders_made) {
     const std::string shown = folder.empty() ? "." : folder.string();
     if (::stat(shown.c_str(), &info) == 0) {
       if (!S_ISDIR(info.st_mode))
-        fail("{}: cannot write: {} is {}, not a folder", path, shown, file_kind(info.st_mode));
+        fail("{}: cannot write: {} is {}, not a folder", path, shown,
+             S_ISREG(info.st_mode) ? "a file" : file_kind(info.st_mode));
       if (::access(shown.c_str(), W_OK | X_OK) != 0)
         fail("{}: cannot write into the folder {}: {}", path, shown, std::strerror(errno));
       return;
     }
-    if (errno != ENOENT) fail("{}: cannot write: the folder {}: {}", path, shown, std::strerror(errno));
-    if (!folders_made) fail("{}: cannot write: the folder {} does not exist", path, shown);
+    // ENOTDIR: a file on the way, named as such above.
+    if (errno != ENOENT && errno != ENOTDIR)
+      fail("{}: cannot write: the folder {}: {}", path, shown, std::strerror(errno));
+    if (!folders_made && errno == ENOENT) fail("{}: cannot write: the folder {} does not exist", path, shown);
     folder = folder.parent_path();
   }
 }

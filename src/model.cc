@@ -190,7 +190,8 @@ namespace {
 std::string closest_model_name(const std::string& typed) {
   const size_t plus = typed.find(kLobeSeparator);
   if (plus != std::string::npos) {
-    const std::string first = closest_model_name(typed.substr(0, plus)), second = closest_model_name(typed.substr(plus + 1));
+    const std::string first = closest_model_name(typed.substr(0, plus)),
+                      second = closest_model_name(typed.substr(plus + 1));
     return first.empty() || second.empty() ? "" : first + kLobeSeparator + second;
   }
   std::vector<std::string> known{"all"};
@@ -224,9 +225,10 @@ std::vector<const Model*> parse_model_list(const std::string& list) {
         respelled += (respelled.empty() ? "" : ",") + (closest.empty() ? n : closest);
       }
       const bool known = closest_model_name(name).size() > 0;
-      fail_usage("--models: unknown model '{}'{} (known: {}; two lobes over one Lambert base: FIRST+SECOND, e.g. "
-                 "ggx+ggx)",
-                 name, known ? "; did you mean -m " + respelled + "?" : "", model_names());
+      fail_usage(
+          "--models: unknown model '{}'{} (known: {}; two lobes over one Lambert base: FIRST+SECOND, e.g. "
+          "ggx+ggx)",
+          name, known ? "; did you mean -m " + respelled + "?" : "", model_names());
     }
     if (std::find(models.begin(), models.end(), m) == models.end()) models.push_back(m);
   }

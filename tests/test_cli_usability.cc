@@ -115,7 +115,8 @@ TEST(CliUsability, AnInputOfTheWrongKindNamesTheCommandThatTakesIt) {
     r = run_cli(command);
     EXPECT_EQ(r.exit_code, 2) << command << "\n" << r.output;
     EXPECT_TRUE(contains(r.output, table + ": a measured table, not a result document; `brdffit fit " + table))
-        << command << "\n" << r.output;
+        << command << "\n"
+        << r.output;
     EXPECT_FALSE(contains(r.output, "parse error")) << r.output;
   }
   EXPECT_FALSE(fs::exists(dir + "/page.html"));
@@ -132,7 +133,7 @@ TEST(CliUsability, EveryOutputIsCheckedBeforeAnyWork) {
 
   r = run_cli("fit " + table + " -m lambert --csv " + dir + "/file.txt/fit.csv");
   EXPECT_EQ(r.exit_code, 1) << r.output;
-  EXPECT_TRUE(contains(r.output, dir + "/file.txt/fit.csv: cannot write: " + dir + "/file.txt is a regular file"))
+  EXPECT_TRUE(contains(r.output, dir + "/file.txt/fit.csv: cannot write: " + dir + "/file.txt is a file, not a folder"))
       << r.output;
   EXPECT_FALSE(contains(r.output, "rank")) << r.output;
 
@@ -140,7 +141,7 @@ TEST(CliUsability, EveryOutputIsCheckedBeforeAnyWork) {
       {"bake -m ggx -o " + dir + "/nodir/ggx.binary", dir + "/nodir/ggx.binary: cannot write"},
       {"render " + table + " -o " + dir + "/nodir/t.png", dir + "/nodir/t.png: cannot write"},
       {"batch " + table + " -m lambert -o " + dir + "/file.txt", dir + "/file.txt: cannot write results into it"},
-      {"batch " + table + " -m lambert -o " + dir + "/file.txt/sub", dir + "/file.txt is a regular file"},
+      {"batch " + table + " -m lambert -o " + dir + "/file.txt/sub", dir + "/file.txt is a file, not a folder"},
   };
   for (const auto& [arguments, message] : cases) {
     r = run_cli(arguments);
@@ -169,8 +170,9 @@ TEST(CliUsability, QuietPrintsTheResultsOnlyAndVerboseEveryStage) {
 
   const CommandResult verbose = run_cli("fit " + table + " -m lambert,ggx --verbose");
   ASSERT_EQ(verbose.exit_code, 0) << verbose.output;
-  for (const std::string& stage : {"brdffit: reading " + table, "brdffit: fitting 2 models to 200 samples",
-                                   "brdffit: [1/2] fitting lambert", "brdffit: [2/2] fitting ggx"})
+  for (const std::string& stage :
+       std::vector<std::string>{"brdffit: reading " + table, "brdffit: fitting 2 models to 200 samples",
+                                "brdffit: [1/2] fitting lambert", "brdffit: [2/2] fitting ggx"})
     EXPECT_TRUE(contains(verbose.output, stage)) << stage << "\n" << verbose.output;
 
   const CommandResult both = run_cli("fit " + table + " -q -v");
@@ -213,7 +215,8 @@ TEST(CliUsability, FitWithoutModelsFitsTheDefaultSet) {
   const CommandResult r = run_cli("fit " + table + " --max-samples 100 --json");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::vector<std::string> models;
-  for (const nlohmann::json& m : nlohmann::json::parse(r.output)["models"]) models.push_back(m["model"]);
+  const nlohmann::json document = nlohmann::json::parse(r.output);
+  for (const nlohmann::json& m : document["models"]) models.push_back(m["model"]);
   EXPECT_EQ(models, (std::vector<std::string>{"lambert", "oren-nayar", "ggx", "cook-torrance", "ward", "gltf"}));
   const CommandResult help = run_cli("help fit");
   EXPECT_TRUE(contains(help.output, "or 'all' (every model")) << help.output;
@@ -221,8 +224,7 @@ TEST(CliUsability, FitWithoutModelsFitsTheDefaultSet) {
 }
 
 TEST(CliUsability, BatchNeverReplacesADocumentsModelsWithFewer) {
-  const std::string dir = test::fresh_dir("usability-batch-models"), table = small_table(dir),
-                    out = dir + "/out";
+  const std::string dir = test::fresh_dir("usability-batch-models"), table = small_table(dir), out = dir + "/out";
   ASSERT_EQ(run_cli("batch " + table + " -m lambert,ward --threads 1 -o " + out).exit_code, 0);
   const std::string before = test::slurp(out + "/t.json");
   const CommandResult fewer = run_cli("batch " + table + " -m lambert --threads 1 -o " + out);
