@@ -71,7 +71,7 @@ inline void add_common_options(CLI::App& app) {
     command->footer(kExitCodes);
     if (command->get_name() == "help") continue;
     CLI::Option* quiet = command->add_flag_callback(
-        "-q,--quiet", [] { verbosity() = Verbosity::Quiet; }, "Print only errors and the results");
+        "-q,--quiet", [] { verbosity() = Verbosity::Quiet; }, "Print only errors, warnings and the results");
     command
         ->add_flag_callback(
             "-v,--verbose", [] { verbosity() = Verbosity::Verbose; }, "Print each stage as it starts")
@@ -85,6 +85,22 @@ inline void add_common_options(CLI::App& app) {
   for (const CLI::App* command : app.get_subcommands([](const CLI::App*) { return true; }))
     commands.push_back(command->get_name());
   fail_usage("no command '{}'{} (brdffit --help lists them)", name, did_you_mean(name, commands));
+}
+
+// "; did you mean '--max-samples'?" for the first option CLI11 did not expect (`--max-sample`,
+// `--Max_Samples=5`) among the options of the command it parsed, or "".
+inline std::string option_suggestion(const CLI::App& app) {
+  for (const CLI::App* command : app.get_subcommands())
+    for (const std::string& extra : command->remaining()) {
+      if (extra.size() < 2 || extra[0] != '-') continue;
+      std::vector<std::string> names;
+      for (const CLI::Option* option : command->get_options()) {
+        for (const std::string& name : option->get_lnames()) names.push_back("--" + name);
+        for (const std::string& name : option->get_snames()) names.push_back("-" + name);
+      }
+      return did_you_mean(extra.substr(0, extra.find('=')), names);
+    }
+  return "";
 }
 
 // `brdffit hlep`: refused with the nearest command before CLI11 takes the word for an argument.

@@ -99,7 +99,7 @@ std::string csv_table(const std::vector<FitResult>& results) {
 // fit's models without -m: the diffuse baseline (lambert) and its rough-surface form
 // (oren-nayar), the microfacet standard (ggx), the two classics of Ngan et al.'s comparison
 // (cook-torrance, ward) and the glTF material that `export` writes unconverted (gltf). Seconds
-// on a table, where all 28 take minutes (the anisotropic and many-lobe ones dominate).
+// on a table, where all of them take minutes (the anisotropic and many-lobe ones dominate).
 const std::string& fit_default_models() {
   static const std::string list = model_list({"lambert", "oren-nayar", "ggx", "cook-torrance", "ward", "gltf"});
   return list;

@@ -24,8 +24,10 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);  // --help, --version
-    fmt::print(stderr, "brdffit: error: {}\n(brdffit help COMMAND lists a command's options)\n",
-               brdffit::printable(e.what()));
+    const std::string suggestion =
+        dynamic_cast<const CLI::ExtrasError*>(&e) ? brdffit::cli::option_suggestion(app) : std::string();
+    fmt::print(stderr, "brdffit: error: {}{}\n(brdffit help COMMAND lists a command's options)\n",
+               brdffit::printable(e.what()), brdffit::printable(suggestion));
     return Exit::kUsage;
   } catch (const brdffit::UsageError& e) {
     fmt::print(stderr, "brdffit: error: {}\n", e.what());

@@ -54,6 +54,8 @@ TEST(CliUsability, UsageErrorsExitTwoWithTheNearestName) {
       {"hlep", "no command 'hlep'; did you mean 'help'?"},
       {"help fitt", "no command 'fitt'; did you mean 'fit'?"},
       {"fit " + table + " --no-such-option", "--no-such-option"},
+      {"fit " + table + " --max-sample 5", "did you mean '--max-samples'?"},
+      {"models --jsn", "did you mean '--json'?"},
       {"fit " + table + " --threads -5", "--threads"},
       {"fit " + table + " -m GGX", "unknown model 'GGX'; did you mean -m ggx?"},
       {"fit " + table + " -m cook_torrance", "unknown model 'cook_torrance'; did you mean -m cook-torrance?"},
