@@ -122,7 +122,8 @@ void check_can_create(const std::string& path, bool folders_made) {
     // ENOTDIR: a file on the way, named as such above.
     if (errno != ENOENT && errno != ENOTDIR)
       fail("{}: cannot write: the folder {}: {}", path, shown, std::strerror(errno));
-    if (!folders_made && errno == ENOENT) fail("{}: cannot write: the folder {} does not exist", path, shown);
+    if ((!folders_made && errno == ENOENT) || folder.empty() || folder == folder.parent_path())
+      fail("{}: cannot write: the folder {} does not exist", path, shown);
     folder = folder.parent_path();
   }
 }
