@@ -7,9 +7,11 @@
 #include <condition_variable>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <regex>
 #include <set>
 #include <thread>
 
@@ -34,12 +36,41 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
+// The models' warnings of a batch: the first of each kind, and how many more like it. Two
+// warnings are alike when they differ only in their numbers (the material's values): a batch of
+// 300 materials where roughness sits at its bound prints that once, "(and 299 more like it)".
+class RepeatedWarnings {
+ public:
+  void add(const std::string& material, const std::string& model, const std::string& warning) {
+    static const std::regex number(R"([-+]?[0-9]*\.?[0-9]+([eE][-+]?[0-9]+)?)");
+    const std::string kind = model + ": " + std::regex_replace(warning, number, "#");
+    const auto [seen, first] = repeats_.try_emplace(kind, 0);
+    if (first)
+      order_.push_back({kind, fmt::format("    {} {}: warning: {}", material, model, warning)});
+    else
+      ++seen->second;
+  }
+  // Each kind once, with its count; then forgets them.
+  void print() {
+    for (const auto& [kind, line] : order_)
+      say(stderr, "{}{}\n", line, repeats_[kind] > 0 ? fmt::format(" (and {} more like it)", repeats_[kind]) : "");
+    order_.clear();
+    repeats_.clear();
+  }
+
+ private:
+  std::vector<std::pair<std::string, std::string>> order_;  // kind, its first line
+  std::map<std::string, size_t> repeats_;                   // kind, how many more
+};
+
 // Progress of a batch on stderr: a line per finished material, and on a terminal a bar below
-// them with counts, elapsed time and ETA, redrawn every second.
+// them with counts, elapsed time and ETA, redrawn every second; the models' warnings once per
+// kind at the end (RepeatedWarnings). With -q only the failures and the warnings; with -v
+// every warning where it arises.
 class BatchProgress {
  public:
   BatchProgress(size_t total, Metric metric, bool terminal)
-      : total_(total), metric_(metric), terminal_(terminal), start_(Clock::now()) {}
+      : total_(total), metric_(metric), terminal_(terminal && verbosity() != Verbosity::Quiet), start_(Clock::now()) {}
 
   void started(const BatchMaterial& material) {
     const std::lock_guard<std::mutex> lock(mutex_);
@@ -68,12 +99,16 @@ class BatchProgress {
       if (o.status == MaterialStatus::Partial) line += "; failed: " + o.error;
     }
     if (!terminal_ && fitted() > 0 && done_ < total_) line += ", ETA " + duration_text(eta());
-    // A poor fit and a parameter on a bound or not identifiable: one warning line each.
+    // A poor fit and a parameter on a bound or not identifiable: a warning line each, with -v
+    // here, else once per kind at the end.
     for (const FitResult& fit : o.fits)
       for (const std::string& warning : fit.warnings)
-        line += fmt::format("\n    {} {}: warning: {}", o.material.name, fit.model, warning);
+        if (verbosity() == Verbosity::Verbose)
+          line += fmt::format("\n    {} {}: warning: {}", o.material.name, fit.model, warning);
+        else
+          warnings_.add(o.material.name, fit.model, warning);
     clear_bar();
-    say(stderr, "{}\n", line);
+    if (verbosity() != Verbosity::Quiet || o.status != MaterialStatus::Ok) say(stderr, "{}\n", line);
     draw_bar();
   }
 
@@ -85,6 +120,7 @@ class BatchProgress {
   void close() {
     const std::lock_guard<std::mutex> lock(mutex_);
     clear_bar();
+    warnings_.print();
   }
 
  private:
@@ -119,6 +155,7 @@ class BatchProgress {
   size_t done_ = 0, resumed_ = 0, failed_ = 0;
   double fitting_seconds_ = 0.0;  // elapsed when the last fitted (not resumed) material finished
   std::set<std::string> running_;
+  RepeatedWarnings warnings_;
 };
 
 // Calls tick() every second on its own thread until destroyed.
@@ -172,8 +209,10 @@ void run_batch_command(const BatchArgs& args) {
   options.jobs = args.jobs;
   options.resume = args.resume;
   options.merge_only = args.merge;
-  const std::optional<Shard> shard = args.shard.empty() ? std::nullopt : std::optional<Shard>(parse_shard(args.shard));
+  const std::optional<Shard> shard =
+      args.shard.empty() ? std::nullopt : std::optional<Shard>(option_value([&] { return parse_shard(args.shard); }));
   options.shared_folder = shard.has_value();
+  check_output_folder(args.out);
   std::vector<BatchMaterial> materials = batch_materials(args.inputs, args.out);
 #ifdef BRDFFIT_MPI_BATCH
   // brdffit-mpi: the ranks of this MPI job share the materials; rank 0 hands them out, holds the
@@ -193,16 +232,20 @@ void run_batch_command(const BatchArgs& args) {
   if (shard) {
     const size_t all = materials.size();
     materials = shard_materials(materials, *shard);
-    say("batch: shard {}/{}: {} of {}\n", shard->index, shard->count, materials.size(), count_of(all, "material"));
+    inform(stdout, "batch: shard {}/{}: {} of {}\n", shard->index, shard->count, materials.size(),
+           count_of(all, "material"));
   }
+  check_batch_keeps_models(materials, options);  // before anything is fitted (every MPI rank alike)
 #ifdef BRDFFIT_MPI_BATCH
   if (prints)
-    say("batch: {} x {} over {} MPI ranks, one material at a time each; results in {}\n",
-        count_of(materials.size(), "material"), count_of(options.models.size(), "model"), ranks.size() - 1, args.out);
+    inform(stdout, "batch: {} x {} over {} MPI ranks, one material at a time each; results in {}\n",
+           count_of(materials.size(), "material"), count_of(options.models.size(), "model"), ranks.size() - 1,
+           args.out);
 #else
   const BatchPlan plan = plan_batch(options, materials.size());
-  say("batch: {} x {}, {} at a time with {} threads each; results in {}\n", count_of(materials.size(), "material"),
-      count_of(options.models.size(), "model"), plan.jobs, plan.threads, args.out);
+  inform(stdout, "batch: {} x {}, {} at a time with {} threads each; results in {}\n",
+         count_of(materials.size(), "material"), count_of(options.models.size(), "model"), plan.jobs, plan.threads,
+         args.out);
 #endif
   std::fflush(stdout);
 
@@ -248,6 +291,7 @@ struct CompareArgs {
 };
 
 void run_compare(const CompareArgs& args) {
+  check_document_arguments(args.results);
   check_outputs(args.results, {args.csv, args.markdown});
   const std::vector<FitDocument> documents = read_fit_documents(args.results);
   check_outputs(document_paths(documents), {args.csv, args.markdown});
@@ -268,9 +312,10 @@ struct ExportArgs {
 
 void run_export(const ExportArgs& args) {
   ExportRequest request;
-  request.format = material_format(args.format, args.out);
-  request.model = args.model.empty() ? args.model : one_model(args.model, "export");
+  request.format = option_value([&] { return material_format(args.format, args.out); });
+  request.model = args.model.empty() ? args.model : named_model(args.model, "export").name();
   request.force = args.force;
+  check_document_arguments({args.result});
   check_outputs({args.result}, {args.out});
   const MaterialExport exported = export_material(read_fit_document(args.result), request);
   for (const std::string& warning : exported.warnings) say(stderr, "warning: {}\n", warning);

@@ -59,12 +59,11 @@ struct EvalArgs {
 };
 
 void run_eval(const EvalArgs& args) {
-  const Model* model = find_model(one_model(args.model, "eval"));
-  if (!model) fail("unknown model '{}' (known: {})", args.model, model_names());
-  const std::vector<double> values = parameter_values(*model, args.params);
-  const Vec3 l = normalized_or_zero(parse_vec3(args.light, "--light"));
-  const Vec3 v = normalized_or_zero(parse_vec3(args.view, "--view"));
-  if (l.isZero() || v.isZero()) fail("--light and --view must be non-zero directions");
+  const Model* model = &named_model(args.model, "eval");
+  const std::vector<double> values = option_value([&] { return parameter_values(*model, args.params); });
+  const Vec3 l = normalized_or_zero(option_value([&] { return parse_vec3(args.light, "--light"); }));
+  const Vec3 v = normalized_or_zero(option_value([&] { return parse_vec3(args.view, "--view"); }));
+  if (l.isZero() || v.isZero()) fail_usage("--light and --view must be non-zero directions");
   const Rgb<double> shade = model->shade(values.data(), l, v);
   const std::optional<Rgb<double>> brdf = model->brdf(values.data(), l, v);
   if (args.json) {

@@ -45,22 +45,37 @@ struct RenderArgs {
   double reference = 0.0;
 };
 
-void run_render(const RenderArgs& args) {
+// render's picture without -o: beside the input, named after it (and the model): ggx fitted to
+// red.json is red-ggx.png, the table red.binary is red.png.
+std::string default_picture(const std::string& input, const std::string& model) {
+  const fs::path path(input);
+  return (path.parent_path() / (path.stem().string() + (model.empty() ? "" : "-" + model) + ".png")).string();
+}
+
+void run_render(RenderArgs args) {
+  const bool document_input = fs::path(args.input).extension() == ".json";
+  if (document_input && args.model.empty()) {
+    std::string names;
+    for (const FitResult& r : read_fit_document(args.input).results) names += (names.empty() ? "" : ", ") + r.model;
+    fail_usage("{}: choose the model to render with -m ({})", args.input, names);
+  }
+  if (!document_input && !args.model.empty())
+    fail_usage("-m applies to result documents (.json); {} is a table", args.input);
+  if (!args.model.empty()) args.model = named_model(args.model, "render").name();
+  if (args.out.empty()) args.out = default_picture(args.input, args.model);
   check_outputs({args.input}, {args.out});
-  const SphereLighting lighting = args.lighting.lighting();
+  const SphereLighting lighting = option_value([&] { return args.lighting.lighting(); });
   cv::Mat sphere;
   std::string what, reference_from = "the sphere's 99th percentile";
   const cv::Mat mask = sphere_mask(args.size);
   double reference = args.reference;
   if (reference > 0.0) reference_from = "--reference";
-  if (fs::path(args.input).extension() == ".json") {
+  if (document_input) {
     const FitDocument document = read_fit_document(args.input);
     std::string names;
     for (const FitResult& r : document.results) names += (names.empty() ? "" : ", ") + r.model;
-    if (args.model.empty()) fail("{}: choose the model to render with -m ({})", args.input, names);
-    one_model(args.model, "render");
     const FitResult* fit = find_result(document.results, args.model);
-    if (!fit) fail("{}: has no {} result (it has {})", args.input, args.model, names);
+    if (!fit) fail_usage("{}: has no {} result (it has {})", args.input, args.model, names);
     if (!fit->ok) fail("{}: the {} fit failed ({}): nothing to render", args.input, args.model, fit->error);
     const Model* model = find_model(args.model);
     if (!model) fail("{}: {} is not a model of this version of brdffit", args.input, args.model);
@@ -75,7 +90,6 @@ void run_render(const RenderArgs& args) {
         // Not a readable table (samples, photographs, a moved file): the fit's own sphere.
       }
   } else {
-    if (!args.model.empty()) fail("-m applies to result documents (.json); {} is a table", args.input);
     sphere = render_measured_sphere(*open_measured(args.input), lighting, args.size);
     what = args.input;
   }
@@ -98,6 +112,7 @@ struct ReportArgs {
 };
 
 void run_report(const ReportArgs& args) {
+  check_document_arguments(args.results);
   check_outputs(args.results, {args.out});
   const std::vector<FitDocument> documents = read_fit_documents(args.results);
   std::vector<std::string> inputs = document_paths(documents);
@@ -105,11 +120,11 @@ void run_report(const ReportArgs& args) {
   check_outputs(inputs, {args.out});
   ReportOptions options;
   if (!args.metric.empty()) options.metric = metric_from(args.metric);
-  options.lighting = args.lighting.lighting();
+  options.lighting = option_value([&] { return args.lighting.lighting(); });
   options.top = args.top;
   options.sphere_size = args.size;
   options.progress = [](size_t index, size_t count, const std::string& material) {
-    say(stderr, "[{}/{}] {}\n", index + 1, count, material);
+    inform(stderr, "[{}/{}] {}\n", index + 1, count, material);
   };
   const std::string page = report_html(documents, options);
   write_file_atomic(args.out, page);
@@ -132,7 +147,9 @@ void add_render_commands(CLI::App& app) {
                    "sphere, for a fit too, so that pictures of a table and of its fits compare; a fit's own "
                    "when its table cannot be read)")
       ->check(CLI::PositiveNumber);
-  render_cmd->add_option("-o,--out", render->out, "Picture: .png (tone-mapped sRGB) or .exr (linear)")->required();
+  render_cmd->add_option("-o,--out", render->out,
+                         "Picture: .png (tone-mapped sRGB) or .exr (linear); default: beside the input, named after "
+                         "it and the model (red.json -m ggx: red-ggx.png; red.binary: red.png)");
   render_cmd->callback([render] { run_render(*render); });
 
   auto report = std::make_shared<ReportArgs>();

@@ -24,14 +24,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // Diffuse, a classic lobe and the microfacet models; those not in this build are skipped.
-constexpr const char* kDefaultModels[] = {"lambert", "blinn-phong", "ggx", "cook-torrance", "ward"};
-
-std::string default_models() {
-  std::string list;
-  for (const char* name : kDefaultModels)
-    if (find_model(name)) list += (list.empty() ? "" : ",") + std::string(name);
-  return list;
-}
+std::string default_models() { return model_list({"lambert", "blinn-phong", "ggx", "cook-torrance", "ward"}); }
 
 struct SphereArgs {
   std::vector<std::string> inputs;
@@ -137,26 +130,28 @@ void run_sphere(const SphereArgs& args) {
   set_max_image_pixels(args.max_pixels);
   FitOptions options = fit_options(args.metric, args.loss, false, args.threads, args.seed, args.converge, args.fix);
   if (args.images_format != "png" && args.images_format != "exr")
-    fail("--images-format: png or exr, not '{}'", args.images_format);
+    fail_usage("--images-format: png or exr, not '{}'", args.images_format);
   const std::vector<const Model*> models = parse_model_list(args.models);
   const SphereInput input = sphere_input(args);
   const PanelOutput panels{args.images_out, args.images_format};
-  std::vector<std::string> outputs = panel_paths(panels, input, models);
-  outputs.push_back(args.out);
-  check_outputs(sphere_input_files(input), outputs);  // before the work, not after it
+  // Before the work, not after it; the panels' folders are made as they are written.
+  check_outputs(sphere_input_files(input), {args.out});
+  check_outputs(sphere_input_files(input), panel_paths(panels, input, models), OutputFolders::Made);
 
+  stage("reading {} and locating the sphere", count_of(input.images.size(), "photograph"));
   const SphereObservation observation = observe_sphere(input);
-  if (!args.json) print_observation(observation);
+  if (!args.json && verbosity() != Verbosity::Quiet) print_observation(observation);
   SampleSet fitted = observation.samples;
   apply_sampling_options(fitted, SamplingOptions{90.0, args.max_samples, args.seed});
   if (!args.json)
-    say("fitting {} of {} samples ({} loss)\n", fitted.size(), observation.samples.size(),
-        args.loss == "none" ? "no robust" : args.loss);
+    inform(stdout, "fitting {} of {} samples ({} loss)\n", fitted.size(), observation.samples.size(),
+           args.loss == "none" ? "no robust" : args.loss);
 
   ModelProgress progress;
   progress.attach(options);
   const std::vector<FitResult> fits = fit_models(models, fitted, options);
   progress.clear();
+  stage("comparing the fits with the photographs{}", panels.dir.empty() ? "" : ", writing images into " + panels.dir);
   const std::vector<PhotoError> errors = compare_with_photographs(observation, input, fits, panels);
   const std::string document =
       args.json || !args.out.empty()
@@ -227,8 +222,8 @@ void add_sphere_commands(CLI::App& app) {
       "--gamma", args->gamma, "Decode every image as value^GAMMA, or 'srgb' (default: 8-bit sRGB, deeper linear)");
   sphere->add_flag("--linear", args->linear, "Every image is linear, 8-bit ones too")->excludes(gamma);
   add_models_option(sphere, args->models,
-                    "Comma-separated models, or 'all' (default: five that span diffuse to glossy; fit and batch "
-                    "take all, a photograph set rarely pins down the many-parameter ones)");
+                    "Comma-separated models, or 'all' (default: five that span diffuse to glossy; batch takes all, "
+                    "fit six; a photograph set rarely pins down the many-parameter ones)");
   sphere->add_option("--metric", args->metric, "What to minimise: cosine, log, relative, l2");
   sphere->add_option("--loss", args->loss,
                      "Robust loss per sample: none, huber, cauchy (default huber, unlike fit and batch: photographs "

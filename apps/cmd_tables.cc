@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "brdffit/error.h"
+#include "brdffit/io.h"
 #include "brdffit/measured.h"
 #include "brdffit/merl.h"
 #include "brdffit/model.h"
@@ -18,6 +19,7 @@ namespace brdffit::cli {
 namespace {
 
 void run_info(const std::string& path, bool json) {
+  check_table_argument(path, "info");
   const TableInfo info = describe_measured(path);
   const bool checked = std::isfinite(info.reciprocity) || !info.albedo_by_incidence.empty();  // not for a CSV
   auto number = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); };
@@ -71,16 +73,17 @@ struct LookupArgs {
 };
 
 void run_lookup(const LookupArgs& args) {
-  const Vec3 l = normalized_or_zero(parse_vec3(args.light, "--light"));
-  const Vec3 v = normalized_or_zero(parse_vec3(args.view, "--view"));
-  if (l.isZero() || v.isZero()) fail("--light and --view must be non-zero directions");
+  check_table_argument(args.path, "lookup");
+  const Vec3 l = normalized_or_zero(option_value([&] { return parse_vec3(args.light, "--light"); }));
+  const Vec3 v = normalized_or_zero(option_value([&] { return parse_vec3(args.view, "--view"); }));
+  if (l.isZero() || v.isZero()) fail_usage("--light and --view must be non-zero directions");
   const std::unique_ptr<MeasuredBrdf> table = open_measured(args.path);
   Rgb<double> f;
   if (const auto* merl = dynamic_cast<const MerlTable*>(table.get())) {
     f = merl->lookup(l, v, args.interp == "nearest" ? Interpolation::Nearest : Interpolation::Trilinear);
   } else {
     if (!args.interp.empty())
-      fail("--interp applies to MERL tables only ({} is not one; it is evaluated continuously)", args.path);
+      fail_usage("--interp applies to MERL tables only ({} is not one; it is evaluated continuously)", args.path);
     f = table->eval(l, v);
   }
   if (args.json)
@@ -95,9 +98,9 @@ struct BakeArgs {
 };
 
 void run_bake(const BakeArgs& args) {
-  const Model* model = find_model(one_model(args.model, "bake"));
-  if (!model) fail("unknown model '{}' (known: {})", args.model, model_names());
-  const std::vector<double> values = parameter_values(*model, args.params);
+  const Model* model = &named_model(args.model, "bake");
+  const std::vector<double> values = option_value([&] { return parameter_values(*model, args.params); });
+  check_outputs({}, {args.out});
   write_merl(args.out, [&](const Vec3& l, const Vec3& v) -> Rgb<double> {
     // Stylised models have no BRDF: tabulate their shaded value divided by cosθi.
     if (const auto f = model->brdf(values.data(), l, v)) return *f;

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "brdffit/error.h"
+#include "cli_common.h"
 #include "commands.h"
 
 namespace brdffit::cli {
@@ -53,7 +54,7 @@ void add_help_command(CLI::App& app, char* program) {
       }
     for (const CLI::App* command : app.get_subcommands([](const CLI::App*) { return true; }))
       if (command->get_name() == *topic) return fmt::print("{}", command->help("brdffit"));
-    fail("help: no command '{}' (brdffit --help lists them)", *topic);
+    fail_unknown_command(app, *topic);
   });
 }
 

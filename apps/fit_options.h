@@ -14,6 +14,7 @@
 #include "brdffit/error.h"
 #include "brdffit/fit.h"
 #include "brdffit/metric.h"
+#include "brdffit/names.h"
 #include "brdffit/result_json.h"
 #include "brdffit/samples.h"
 
@@ -87,7 +88,7 @@ struct FixArg {
       }
       if (equals == std::string::npos || equals == 0 || used == 0 || used != item.size() - equals - 1 ||
           !std::isfinite(value))
-        fail("--fix: '{}' is not NAME=VALUE (e.g. --fix metallic=0,ior=1.5)", item);
+        fail_usage("--fix: '{}' is not NAME=VALUE (e.g. --fix metallic=0,ior=1.5)", item);
       options.fixed.emplace_back(item.substr(0, equals), value);
       begin = end + 1;
     }
@@ -121,7 +122,9 @@ inline void print_warnings(const FitResult& r, const char* indent) {
 
 inline Metric metric_from(const std::string& name) {
   const std::optional<Metric> metric = parse_metric(name);
-  if (!metric) fail("--metric: unknown metric '{}' (cosine, log, relative, l2)", name);
+  if (!metric)
+    fail_usage("--metric: unknown metric '{}'{} (cosine, log, relative, l2)", name,
+               did_you_mean(name, {"cosine", "log", "relative", "l2"}));
   return *metric;
 }
 
@@ -129,7 +132,8 @@ inline LossKind loss_from(const std::string& name) {
   if (name == "none") return LossKind::None;
   if (name == "huber") return LossKind::Huber;
   if (name == "cauchy") return LossKind::Cauchy;
-  fail("--loss: unknown loss '{}' (none, huber, cauchy)", name);
+  fail_usage("--loss: unknown loss '{}'{} (none, huber, cauchy)", name,
+             did_you_mean(name, {"none", "huber", "cauchy"}));
 }
 
 // The FitOptions of fit, sphere and batch, from their command-line values: the one place where

@@ -357,6 +357,42 @@ OutputFolderLock::~OutputFolderLock() {
   ::close(fd_);
 }
 
+void check_batch_keeps_models(const std::vector<BatchMaterial>& materials, const BatchOptions& options) {
+  if (options.merge_only) return;  // writes no result document
+  std::vector<std::string> fitted;
+  for (const Model* model : options.models) fitted.push_back(model->name());
+  std::vector<std::string> wanted = fitted;  // these and every model the documents hold, in order
+  std::vector<std::string> losing;           // "red.json (ward, lambert)"
+  for (const BatchMaterial& material : materials) {
+    const std::string path = (fs::path(options.out_dir) / (material.name + ".json")).string();
+    std::error_code error;
+    if (!fs::exists(path, error)) continue;
+    if (options.resume && completed_document(path, material, options)) continue;  // kept as it is
+    FitDocument document;
+    try {
+      document = read_fit_document(path);
+    } catch (const Error&) {
+      continue;  // unreadable (e.g. from an older version): replaced, as documented
+    }
+    std::string dropped;
+    for (const FitResult& fit : document.results) {
+      if (std::find(fitted.begin(), fitted.end(), fit.model) != fitted.end()) continue;
+      dropped += (dropped.empty() ? "" : ", ") + fit.model;
+      if (std::find(wanted.begin(), wanted.end(), fit.model) == wanted.end()) wanted.push_back(fit.model);
+    }
+    if (!dropped.empty()) losing.push_back(fs::path(path).filename().string() + " (" + dropped + ")");
+  }
+  if (losing.empty()) return;
+  std::string listed, all;
+  for (size_t i = 0; i < std::min<size_t>(losing.size(), 3); ++i) listed += (i ? ", " : "") + losing[i];
+  if (losing.size() > 3) listed += fmt::format(" and {} more", losing.size() - 3);
+  for (const std::string& name : wanted) all += (all.empty() ? "" : ",") + name;
+  fail_usage(
+      "{}: {} hold fits of models this batch does not fit, and refitting would replace them with fewer: {}. "
+      "Fit those models too (-m {}), or write into another folder (--out)",
+      options.out_dir, count_of(losing.size(), "result document"), listed, all);
+}
+
 std::vector<MaterialOutcome> run_batch(const std::vector<BatchMaterial>& materials, const BatchOptions& options,
                                        const BatchEvents& events) {
   std::error_code error;

@@ -98,6 +98,36 @@ OutputKind output_kind(const std::string& path) {
   fail("{}: cannot write: {}, not a regular file", path, file_kind(info.st_mode));
 }
 
+// Throws Error naming `path` and why unless a file can be made there now: written into when it
+// is one written through, else created in its folder, which must exist (with `folders_made`,
+// the command makes the missing ones: the nearest existing folder above must take them) and be
+// a folder this process may write into. Read-only file systems count (access() says EROFS).
+void check_can_create(const std::string& path, bool folders_made) {
+  if (output_kind(path) == OutputKind::WriteThrough) {
+    if (::access(path.c_str(), W_OK) != 0) fail("{}: cannot write: {}", path, std::strerror(errno));
+    return;
+  }
+  fs::path folder = fs::path(path).parent_path();
+  struct stat info;
+  for (;;) {
+    const std::string shown = folder.empty() ? "." : folder.string();
+    if (::stat(shown.c_str(), &info) == 0) {
+      if (!S_ISDIR(info.st_mode))
+        fail("{}: cannot write: {} is {}, not a folder", path, shown,
+             S_ISREG(info.st_mode) ? "a file" : file_kind(info.st_mode));
+      if (::access(shown.c_str(), W_OK | X_OK) != 0)
+        fail("{}: cannot write into the folder {}: {}", path, shown, std::strerror(errno));
+      return;
+    }
+    // ENOTDIR: a file on the way, named as such above.
+    if (errno != ENOENT && errno != ENOTDIR)
+      fail("{}: cannot write: the folder {}: {}", path, shown, std::strerror(errno));
+    if ((!folders_made && errno == ENOENT) || folder.empty() || folder == folder.parent_path())
+      fail("{}: cannot write: the folder {} does not exist", path, shown);
+    folder = folder.parent_path();
+  }
+}
+
 // Copies the file at `from` into the open descriptor `to`; an error message, empty on success.
 std::string copy_into(const std::string& from, int to) {
   const int in = ::open(from.c_str(), O_RDONLY | O_CLOEXEC);
@@ -219,7 +249,8 @@ std::string absolute_path(const std::string& path) {
   return (error ? fs::path(path) : absolute).lexically_normal().string();
 }
 
-void check_outputs(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs) {
+void check_outputs(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs,
+                   OutputFolders folders) {
   // One entry per path: its identity when it exists, else its normal absolute spelling.
   struct Entry {
     std::string path;
@@ -246,7 +277,7 @@ void check_outputs(const std::vector<std::string>& inputs, const std::vector<std
     if (!p.empty()) in.push_back(entry(p));
   for (const std::string& p : outputs) {
     if (p.empty()) continue;
-    output_kind(p);  // refuses what cannot be written
+    check_can_create(p, folders == OutputFolders::Made);  // refuses what cannot be written
     const Entry e = entry(p);
     for (const Entry& i : in)
       if (same(e, i)) fail("{}: the output is the input {}: refusing to overwrite it", p, i.path);
@@ -254,6 +285,13 @@ void check_outputs(const std::vector<std::string>& inputs, const std::vector<std
       if (same(e, o)) fail("{}: the same file is given as two outputs ({} and {})", p, o.path, p);
     out.push_back(e);
   }
+}
+
+void check_output_folder(const std::string& folder) {
+  std::error_code error;
+  if (fs::exists(folder, error) && !fs::is_directory(folder, error))
+    fail("{}: cannot write results into it: not a folder", folder);
+  check_can_create((fs::path(folder) / "summary.json").string(), true);
 }
 
 int remove_stale_temp_files(const std::string& folder) {

@@ -9,6 +9,7 @@
 
 #include "brdffit/error.h"
 #include "brdffit/fit.h"
+#include "brdffit/names.h"
 #include "brdffit/param.h"
 #include "brdffit/two_lobes.h"
 
@@ -197,22 +198,54 @@ Vec3 parse_vec3(const std::string& text, const std::string& what) {
   return Vec3(numbers[0], numbers[1], numbers[2]);
 }
 
+namespace {
+// The name `typed` (one model or FIRST+SECOND) most likely meant, or "" (names.h).
+std::string closest_model_name(const std::string& typed) {
+  const size_t plus = typed.find(kLobeSeparator);
+  if (plus != std::string::npos) {
+    const std::string first = closest_model_name(typed.substr(0, plus)),
+                      second = closest_model_name(typed.substr(plus + 1));
+    return first.empty() || second.empty() ? "" : first + kLobeSeparator + second;
+  }
+  std::vector<std::string> known{"all"};
+  for (const auto& m : all_models()) known.push_back(m->name());
+  return closest_name(typed, known);
+}
+}  // namespace
+
 std::vector<const Model*> parse_model_list(const std::string& list) {
   std::vector<const Model*> models;
   if (list == "all") {
     for (const auto& m : all_models()) models.push_back(m.get());
     return models;
   }
+  std::vector<std::string> names;
   std::stringstream stream(list);
-  for (std::string name; std::getline(stream, name, ',');) {
-    if (name.empty()) continue;
-    const Model* m = find_model(name);
-    if (!m)
-      fail("--models: unknown model '{}' (known: {}; two lobes over one Lambert base: FIRST+SECOND, e.g. ggx+ggx)",
-           name, model_names());
+  for (std::string name; std::getline(stream, name, ',');)
+    if (!name.empty()) names.push_back(name);
+  for (const std::string& name : names) {
+    const Model* m = nullptr;
+    try {
+      m = find_model(name);
+    } catch (const Error& e) {  // FIRST+SECOND whose parts are no lobes over Lambert
+      throw UsageError(fmt::format("--models: {}", e.what()));
+    }
+    if (!m) {
+      // The whole list respelled, so that one typo among several names is fixed in one go.
+      std::string respelled;
+      for (const std::string& n : names) {
+        const std::string closest = closest_model_name(n);
+        respelled += (respelled.empty() ? "" : ",") + (closest.empty() ? n : closest);
+      }
+      const bool known = closest_model_name(name).size() > 0;
+      fail_usage(
+          "--models: unknown model '{}'{} (known: {}; two lobes over one Lambert base: FIRST+SECOND, e.g. "
+          "ggx+ggx)",
+          name, known ? "; did you mean -m " + respelled + "?" : "", model_names());
+    }
     if (std::find(models.begin(), models.end(), m) == models.end()) models.push_back(m);
   }
-  if (models.empty()) fail("--models: no model named");
+  if (models.empty()) fail_usage("--models: no model named");
   return models;
 }
 

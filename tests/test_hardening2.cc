@@ -359,7 +359,7 @@ TEST(Hardening2, OptionalFieldsAreLookedUpSafelyAndTypedFieldsNamed) {
     EXPECT_TRUE(contains(error_of([&] { read_fit_document(dir + "/bad.json"); }), dir + "/bad.json: " + message))
         << field;
     const CommandResult r = run_cli("compare " + dir + "/bad.json");
-    EXPECT_EQ(r.exit_code, 1) << r.output;  // an error (1), not an internal error (2)
+    EXPECT_EQ(r.exit_code, 1) << r.output;  // an error (1), not an internal error (70)
     EXPECT_TRUE(contains(r.output, message)) << r.output;
   }
   std::vector<std::string> warnings;

@@ -117,6 +117,13 @@ BatchPlan plan_batch(const BatchOptions& options, size_t materials);
 std::vector<MaterialOutcome> run_batch(const std::vector<BatchMaterial>& materials, const BatchOptions& options,
                                        const BatchEvents& events = {});
 
+// Before a batch starts: throws UsageError when the result document a material would get in
+// out_dir already holds fits of models not in options.models, so that rewriting it would drop
+// them (with resume, a document complete and current for this batch is kept, not rewritten; with
+// merge_only nothing is rewritten). The message names the documents and the -m that keeps every
+// model. A batch never silently replaces a document's models with fewer.
+void check_batch_keeps_models(const std::vector<BatchMaterial>& materials, const BatchOptions& options);
+
 // How many materials ended in each status; `resumed` counts those skipped (they are also ok).
 struct OutcomeCounts {
   size_t ok = 0, partial = 0, failed = 0, resumed = 0;

@@ -22,6 +22,15 @@ class Error : public std::runtime_error {
   explicit Error(const char* message) : Error(std::string(message)) {}
 };
 
+// A request that cannot be what was meant, whatever the files hold: an unknown name (model,
+// metric, command), an option value out of its range, options that exclude each other, an input
+// of the wrong kind for the command. The command line exits 2 for it (1 for an Error about a
+// file or a fit), so that scripts tell a typo from bad data.
+class UsageError : public Error {
+ public:
+  using Error::Error;
+};
+
 // A fit stopped on request (FitOptions::cancel) before it ended: it has no result.
 class Cancelled : public Error {
  public:
@@ -31,6 +40,11 @@ class Cancelled : public Error {
 template <class... Args>
 [[noreturn]] void fail(fmt::format_string<Args...> format, Args&&... args) {
   throw Error(fmt::format(format, std::forward<Args>(args)...));
+}
+
+template <class... Args>
+[[noreturn]] void fail_usage(fmt::format_string<Args...> format, Args&&... args) {
+  throw UsageError(fmt::format(format, std::forward<Args>(args)...));
 }
 
 }  // namespace brdffit

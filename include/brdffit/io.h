@@ -38,12 +38,24 @@ std::string read_file(const std::string& path, uint64_t max_bytes = kMaxInputByt
 // returns its size. For readers that stream a file instead of reading it whole.
 uint64_t check_input_file(const std::string& path, uint64_t max_bytes = kMaxInputBytes);
 
+// Where the folders of a command's outputs come from: there already (a file written with
+// write_file_atomic, which makes no folder), or made by the command (sphere's --images-out/MODEL/).
+enum class OutputFolders { Exist, Made };
+
 // Commands call this before they start work: throws Error when an output is the same file as an
 // input or as another output (by device and inode, so other spellings of a path and hard links
-// count), or is an existing file that is not a regular file. Empty paths are ignored (an output
-// not asked for); outputs that do not exist yet only need distinct spellings, compared after
-// making them absolute and normal. Inputs that are folders are compared like files.
-void check_outputs(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs);
+// count), is an existing file that is not a regular file, or cannot be made now: its folder does
+// not exist (with OutputFolders::Made: the nearest existing one above it) or is no folder this
+// process may write into; the message names the path and the reason. Empty paths are ignored (an
+// output not asked for); outputs that do not exist yet only need distinct spellings, compared
+// after making them absolute and normal. Inputs that are folders are compared like files.
+void check_outputs(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs,
+                   OutputFolders folders = OutputFolders::Exist);
+
+// The same for a folder a command writes its outputs into, making it (and its parents) when
+// missing (batch's --out): throws Error unless it is a folder, or nothing below a folder this
+// process may write into.
+void check_output_folder(const std::string& folder);
 
 // `path` made absolute against the working folder and lexically normal (no . or ..), for
 // documents that name their inputs and are read from another folder.
