@@ -75,8 +75,10 @@ const Model& model_from(const py::handle& model) {
   if (py::isinstance<Model>(model)) return py::cast<const Model&>(model);
   const std::string name = py::cast<std::string>(model);
   const Model* found = find_model(name);
-  if (!found) fail("unknown model '{}' (known: {})", name, model_names());
-  return *found;
+  if (found) return *found;
+  // The command line's message for an unknown name, with its suggestion (parse_model_list throws it).
+  if (name.find(',') == std::string::npos) parse_model_list(name);
+  fail("'{}' is not one model (known: {})", name, model_names());
 }
 
 ModelValues values_from(const Model& model, const py::handle& params) {

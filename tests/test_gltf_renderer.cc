@@ -197,6 +197,7 @@ struct RendererCase {
   GltfMaterial material;
   std::string three_js_material;  // the class GLTFLoader chooses
 };
+void PrintTo(const RendererCase& c, std::ostream* out) { *out << c.model; }  // test names, not bytes
 
 class ThreeJs : public ::testing::TestWithParam<RendererCase> {};
 
