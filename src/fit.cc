@@ -855,14 +855,12 @@ FitResult fit_or_failure(const Model& model, const SampleSet& data, const FitOpt
 // for a little less error) and report a confident shape the material does not have.
 FitResult in_isotropic_form(const Model& model, const Nesting& form, const Model& inner, const FitResult& inner_fit,
                             const SampleSet& data) {
-  FitResult r;
+  FitResult r = inner_fit;  // its status, iterations, termination, time and sample count
   r.model = model.name();
-  r.ok = inner_fit.ok;
-  r.error = inner_fit.error;
-  r.iterations = inner_fit.iterations;
-  r.termination = inner_fit.termination;
-  r.seconds = inner_fit.seconds;
-  r.samples = inner_fit.samples;
+  r.values.clear();
+  r.channel_values.clear();
+  r.parameters.clear();
+  r.warnings.clear();  // they name the inner model's parameters; judge() writes this model's
   if (!inner_fit.ok) return r;
   r.values = embed_values(model, form, inner, inner_fit.values);
   for (const std::vector<double>& channel : inner_fit.channel_values)
