@@ -208,15 +208,20 @@ inline std::string npm_modules() { return std::string(BRDFFIT_SOURCE_DIR) + "/.d
 // A command line and a part of the error message it must print.
 struct CliErrorCase {
   std::string args, message;
+  int exit_code = 0;  // the documented code (1: a file or the fit, 2: the command line); 0: either
 };
 
-// Runs each command line, expecting a non-zero exit, the message in what it printed, and no
-// file at `must_not_exist` (an output that must not be written, even in part).
+// Runs each command line, expecting a documented error exit (1 or 2, or the case's own: never a
+// signal such as an abort after the message, never 70, an internal error), the message in what
+// it printed, and no file at `must_not_exist` (an output that must not be written, even in part).
 inline void expect_cli_errors(const std::vector<CliErrorCase>& cases, const std::string& must_not_exist) {
   for (const CliErrorCase& c : cases) {
     SCOPED_TRACE(c.args);
     const CommandResult r = run_cli(c.args);
-    EXPECT_NE(r.exit_code, 0);
+    if (c.exit_code != 0)
+      EXPECT_EQ(r.exit_code, c.exit_code) << r.output;
+    else
+      EXPECT_TRUE(r.exit_code == 1 || r.exit_code == 2) << "exit code " << r.exit_code << "\n" << r.output;
     EXPECT_NE(r.output.find(c.message), std::string::npos) << r.output;
     EXPECT_FALSE(std::filesystem::exists(must_not_exist));
   }
