@@ -90,6 +90,34 @@ inline std::vector<double> random_values(const Model& model, std::mt19937_64& rn
   return values;
 }
 
+// Random values over every parameter's whole range, bounds included: each value is its lower or
+// upper bound one time in eight each, else uniform (log-uniform for Spacing::Log, so that the
+// narrow lobes near a width's lower bound are drawn as often as the wide ones).
+inline std::vector<double> random_values_with_bounds(const Model& model, std::mt19937_64& rng) {
+  std::vector<double> values;
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (const ParamSpec& p : model.parameters())
+    for (int c = 0; c < p.channels; ++c) {
+      const double u = unit(rng), w = unit(rng);
+      double x =
+          p.spacing == Spacing::Log ? p.lower * std::pow(p.upper / p.lower, w) : p.lower + w * (p.upper - p.lower);
+      if (u < 0.125) x = p.lower;
+      if (u > 0.875) x = p.upper;
+      if (p.integer) x = std::round(x);
+      values.push_back(x);
+    }
+  return values;
+}
+
+// A random direction above the surface at most max_theta_degrees from the normal (89.9: grazing).
+inline Vec3 random_direction_up_to(std::mt19937_64& rng, double max_theta_degrees) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double cos_max = std::cos(max_theta_degrees * kPi / 180);
+  const double z = cos_max + (1.0 - cos_max) * unit(rng), phi = 2 * kPi * unit(rng);
+  const double s = std::sqrt(1.0 - z * z);
+  return Vec3(s * std::cos(phi), s * std::sin(phi), z);
+}
+
 // A model or material name as a GoogleTest parameter name (letters, digits and '_' only).
 inline std::string gtest_name(std::string name) {
   for (char& c : name)

@@ -17,9 +17,10 @@
 //
 // Contains (nestings): `ggx` (α_x = α_y = roughness², exact) and `lambert` (f0 = 0, widths 1;
 // not exact: Schlick's F keeps (1-l·h)^5 at f0 = 0, so the lobe does not vanish).
-// Not declared energy conserving: the lobe alone reflects at most 1 (D is normalised, F, G ≤ 1),
-// but albedo = 1 with the (1-l·h)^5 term that f0 = 0 leaves reflects up to 1.05 at θo = 80°
-// for α_x = 1e-4, α_y = 1 (1.02 at most for the isotropic `ggx`).
+// Energy conserving in model.h's sense, as `ggx`: the lobe alone reflects at most 1 (D is
+// normalised, F and G are at most 1; tests/test_model_physics.cc integrates it over the whole
+// box of widths), and so does the albedo term; their sum can exceed 1 (albedo 1 with the
+// (1-l·h)^5 term that f0 = 0 leaves reflects 1.39 at θo = 80° for α_x = α_y = 1e-4).
 #pragma once
 
 #include "brdffit/model.h"
@@ -31,7 +32,7 @@ struct GgxAniso {
   static constexpr const char* kName = "ggx-aniso";
   static constexpr const char* kSummary =
       "albedo/π + D·F·G/(4 n·l n·v): anisotropic GGX (Walter 2007) with widths α_x, α_y and frame rotation phi0";
-  static constexpr bool kEnergyConserving = false;
+  static constexpr bool kEnergyConserving = true;
   enum : int { kAlbedo = 0, kF0 = 3, kAlphaX = 6, kAlphaY = 7, kPhi0 = 8, kNumValues = 9 };
 
   static std::vector<ParamSpec> parameters() {
