@@ -42,14 +42,33 @@ std::vector<double> truth_for(const Model& model) {
 // shadowing that never acts (c·(θ−θ0)^k ≈ 0); 6000 samples do not determine the albedo under the
 // one nor the shadowing in the other, and the stddevs say so. These are in the range of the
 // published fits instead, away from the fitter's defaults.
+// The middle of a width's log range is a near-mirror too (ggx α = 0.006, ggx-aniso α_x = 0.0025,
+// ward α = 0.011, cook-torrance m = 0.022): random direction pairs fall in such a lobe a fraction
+// of order α² of the time, a handful of the samples, so its height and Fresnel rest on those few
+// and on the tails. Measured over 8 noise seeds at 1 % noise, the estimates then scattered far
+// beyond 2 %: cook-torrance's and low-cook-torrance's specular by 9 % (26 % at worst, specular
+// against f0 or eta), ggx-aniso's f0 by 4.7 %, ggx's f0 by 2.6 %, gltf's baseColor by 2 %, and
+// beckmann's and gaussian's albedo by 1-2 % under a peak of 1.2·specular = 400-800. These take
+// glossy widths as in the published fits of MERL (α or m 0.1-0.3; Löw's B 50, not 280), where
+// hundreds of samples see the lobe, and gaussian a peak a few times the albedo; wrap a contrast
+// of 3, whose falloff separates it from wrap (at contrast 1.4 wrap scattered by 1.3 %).
 std::vector<double> recovery_truth(const Model& model) {
   std::vector<double> values = truth_for(model);
   const std::map<std::string, std::vector<std::string>> overrides = {
-      {"low-smooth", {"A=3,4,5"}},
-      {"low-microfacet", {"A=3,4,5"}},
       {"sgd",
        {"specular=0.3,0.4,0.5", "alpha=0.04,0.05,0.06", "p=0.6,0.7,0.8", "f0=0.2,0.25,0.3", "f1=0.1,0.1,0.1",
-        "K=10,10,10", "lambda=1.5,1.5,1.5", "c=0.3,0.3,0.3", "k=3,3,3", "theta0=0.4,0.4,0.4"}}};
+        "K=10,10,10", "lambda=1.5,1.5,1.5", "c=0.3,0.3,0.3", "k=3,3,3", "theta0=0.4,0.4,0.4"}},
+      {"low-smooth", {"A=3,4,5", "B=50"}},
+      {"low-microfacet", {"A=3,4,5", "B=50"}},
+      {"low-cook-torrance", {"m=0.3"}},
+      {"gaussian", {"specular=3,4,5", "m=0.2"}},
+      {"beckmann", {"m=0.2"}},
+      {"cook-torrance", {"m=0.3"}},
+      {"ggx", {"roughness=0.4"}},
+      {"gltf", {"roughness=0.4"}},
+      {"ggx-aniso", {"alpha_x=0.1", "alpha_y=0.2"}},
+      {"ward", {"alpha=0.15"}},
+      {"wrap", {"contrast=3"}}};
   const auto it = overrides.find(model.name());
   if (it == overrides.end()) return values;
   const std::vector<double> overridden = parameter_values(model, it->second);
@@ -72,11 +91,18 @@ std::vector<std::string> identifiable_models() {
 
 class FitRecovery : public ::testing::TestWithParam<std::string> {};
 
+// 20,000 samples with 1 % noise: every identifiable value within 2 % of the truth. Measured over
+// 8 noise seeds, the estimates scatter by at most 0.76 % (low-microfacet's B; the next 0.65 %,
+// low-cook-torrance's albedo) and end at most 1.7 % off (the same B; the next 1.2 %), so 2 % is
+// 2.6 of the widest scatter and 4 or more of every other. (At 6000 samples the scatter reached
+// 0.8 % in five models; low-microfacet's B scatters as much at 6000 as at 20,000: where the
+// fitter stops in its long valley, not the noise, sets it.) No truth value is 0 or near it, so no
+// absolute floor is needed. At most 2.4 s a model (ashikhmin-shirley-aniso).
 TEST_P(FitRecovery, RecoversKnownParameters) {
   const Model* m = find_model(GetParam());
   ASSERT_NE(m, nullptr);
   const std::vector<double> truth = recovery_truth(*m);
-  const SampleSet data = synthetic(*m, truth, 6000, 0.01, 3);
+  const SampleSet data = synthetic(*m, truth, 20000, 0.01, 3);
   FitOptions options;
   const FitResult fit = fit_model(*m, data, options);
   ASSERT_TRUE(fit.ok) << fit.error;
@@ -95,19 +121,18 @@ TEST_P(FitRecovery, RecoversKnownParameters) {
       continue;
     }
     for (size_t c = 0; c < p.value.size(); ++c) {
-      // The estimate within 2 % of the truth, or within 3 reported stddevs where the data
-      // determine it less well; the stddev itself at most 10 % of the value (largest seen:
-      // beckmann's albedo, 5.8 %) and calibrated in test_fit_calibration.cc, so an inflated
-      // one cannot excuse a wrong value.
       const double expected = truth[offset + c], stddev = p.stddev[c];
       if (m->parameters()[&p - fit.parameters.data()].integer) {  // searched, not estimated: exact
         EXPECT_EQ(p.value[c], expected) << p.name;
         continue;
       }
+      EXPECT_NEAR(p.value[c], expected, 0.02 * std::abs(expected)) << p.name << "[" << c << "]";
+      // The stddev is calibrated in test_fit_calibration.cc, on the homoscedastic noise its
+      // σ²(JᵀJ)⁻¹ assumes; this noise is relative, so here only its size is bounded: not
+      // inflated, at most 1 % of the value (measured: at most 0.5 %, beckmann's albedo under its
+      // lobe; a lobe's own values 0.01-0.1 %).
       ASSERT_TRUE(std::isfinite(stddev)) << p.name << "[" << c << "]";
-      EXPECT_LE(stddev, 0.1 * std::abs(expected) + 1e-9) << p.name << "[" << c << "]";
-      const double tolerance = std::max(0.02 * std::abs(expected), 3 * stddev);
-      EXPECT_NEAR(p.value[c], expected, std::max(tolerance, 1e-9)) << p.name << "[" << c << "]";
+      EXPECT_LE(stddev, 0.01 * std::abs(expected)) << p.name << "[" << c << "]";
     }
     offset += static_cast<int>(p.value.size());
   }
