@@ -24,19 +24,60 @@ Camera Camera::centred(double focal_px, cv::Size image) {
   return {focal_px, (image.width - 1) / 2.0, (image.height - 1) / 2.0};
 }
 
+namespace {
+
+// The silhouette of a sphere whose centre is seen at angle θ from the optical axis under a
+// half-angle α (the cone of rays grazing it), on an image plane at distance f: an ellipse whose
+// long axis lies along the radial line, from f·tan(θ−α) to f·tan(θ+α). Returns the distance of
+// its centre from the principal point and the radius of the circle of equal area, √(a·b).
+struct ConeImage {
+  double centre, area_radius;
+};
+ConeImage cone_image(double theta, double alpha, double f) {
+  const double near = f * std::tan(theta - alpha), far = f * std::tan(theta + alpha);
+  const double centre = 0.5 * (near + far), a = 0.5 * (far - near);
+  // Across the long axis at its centre: the points (centre, y, f) at angle α from the cone's axis
+  // (sin θ, 0, cos θ): (centre·sin θ + f·cos θ)² = cos²α (centre² + y² + f²).
+  const double along = centre * std::sin(theta) + f * std::cos(theta);
+  const double b = std::sqrt(std::max(0.0, along * along / std::pow(std::cos(alpha), 2) - centre * centre - f * f));
+  return {centre, std::sqrt(a * b)};
+}
+
+// x in [lo, hi] where an increasing function reaches `target`, by bisection.
+template <class F>
+double solve_increasing(F&& f, double target, double lo, double hi) {
+  for (int i = 0; i < 100; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (f(mid) < target ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+}  // namespace
+
 SphereView::SphereView(const Circle& outline, const Camera& camera) : outline_(outline), camera_(camera) {
   if (!camera.perspective()) return;
-  // The silhouette is where rays graze the sphere, a cone around the direction of its centre.
-  // The outline's points nearest to and farthest from the principal point lie on opposite
-  // sides of that cone: their rays' bisector is the cone's axis and half the angle between
-  // them its half-angle α, so a sphere of radius 1 has its centre at distance 1/sin α.
+  // The outline is the circle closest to the silhouette: centred on it and of the same area (as
+  // circle_from_mask's moments and detect_sphere's least-squares fit to its edge give it). Off the
+  // principal point the silhouette is an ellipse stretched along the radial line, so the sphere
+  // is the one whose grazing cone (centre direction at θ, half-angle α) projects to an ellipse with
+  // that centre and that area; its centre lies at distance 1/sin α for a sphere of radius 1.
+  // (Taking the outline's radius as the ellipse's long half-axis instead put the normals of a
+  // sphere 20° off the axis 1-2° off, and chrome-ball lights up to 2.5° off.)
+  const double f = camera.focal_px;
   Eigen::Vector2d radial(outline.x - camera.principal_x, outline.y - camera.principal_y);
-  radial = radial.norm() > 1e-9 ? Eigen::Vector2d(radial.normalized()) : Eigen::Vector2d(1.0, 0.0);
-  const Vec3 near =
-      camera_ray(camera, outline.x - outline.radius * radial.x(), outline.y - outline.radius * radial.y());
-  const Vec3 far = camera_ray(camera, outline.x + outline.radius * radial.x(), outline.y + outline.radius * radial.y());
-  const double half_angle = 0.5 * std::acos(std::clamp(near.dot(far), -1.0, 1.0));
-  centre_ = (near + far).normalized() / std::sin(half_angle);
+  const double distance = radial.norm();
+  radial = distance > 1e-9 ? Eigen::Vector2d(radial / distance) : Eigen::Vector2d(1.0, 0.0);
+  const auto theta_for = [&](double alpha) {
+    return solve_increasing([&](double theta) { return cone_image(theta, alpha, f).centre; }, distance, 0.0,
+                            0.5 * kPi - alpha);
+  };
+  const double alpha = solve_increasing([&](double a) { return cone_image(theta_for(a), a, f).area_radius; },
+                                        outline.radius, 0.0, 0.5 * kPi);
+  const double theta = theta_for(alpha);
+  const Vec3 axis = camera_ray(camera, camera.principal_x + f * std::tan(theta) * radial.x(),
+                               camera.principal_y + f * std::tan(theta) * radial.y());
+  centre_ = axis / std::sin(alpha);
 }
 
 SphereView SphereView::centred(int size) {

@@ -112,20 +112,40 @@ TEST(SphereGeometry, OrthographicAndPerspectiveNormals) {
   EXPECT_NEAR(n.y(), 0.5, 1e-12);
   EXPECT_FALSE(ortho.surface_at(70.5, 40.0, n, v));
 
-  // Perspective: every normal is unit and faces the camera, and just inside the outline the
-  // view grazes the sphere.
+  // Perspective: every normal is unit and faces the camera.
   const Camera camera = Camera::centred(400.0, cv::Size(321, 241));
   const SphereView persp(Circle{220.0, 90.0, 40.0}, camera);
   ASSERT_TRUE(persp.surface_at(220.0, 90.0, n, v));
   EXPECT_NEAR(n.norm(), 1.0, 1e-12);
   EXPECT_NEAR(v.norm(), 1.0, 1e-12);
   EXPECT_GT(n.dot(v), 0.99);
+  // The outline is the circle of the silhouette's centre and area (what circle_from_mask measures
+  // of a mask): integrated on a 0.1-pixel grid, the silhouette has the outline's area and centroid.
+  double area = 0.0, sum_x = 0.0, sum_y = 0.0;
+  const double step = 0.1;
+  for (double y = 30.0; y < 150.0; y += step)
+    for (double x = 160.0; x < 280.0; x += step)
+      if (persp.surface_at(x, y, n, v)) area += step * step, sum_x += x * step * step, sum_y += y * step * step;
+  EXPECT_NEAR(area, kPi * 40.0 * 40.0, 0.002 * kPi * 40.0 * 40.0);
+  EXPECT_NEAR(sum_x / area, 220.0, 0.05);
+  EXPECT_NEAR(sum_y / area, 90.0, 0.05);
+  // 10° off the axis it is an ellipse, longer along the line from the principal point than across
+  // it, and at its edge the view grazes the sphere.
   const Eigen::Vector2d radial = Eigen::Vector2d(220.0 - 160.0, 90.0 - 120.0).normalized();
-  for (double side : {-1.0, 1.0}) {
-    ASSERT_TRUE(persp.surface_at(220.0 + side * 39.9 * radial.x(), 90.0 + side * 39.9 * radial.y(), n, v));
+  auto edge = [&](const Eigen::Vector2d& direction) {  // distance from the centre to the silhouette's edge
+    double inside = 0.0, outside = 80.0;
+    for (int i = 0; i < 50; ++i) {
+      const double t = 0.5 * (inside + outside);
+      (persp.surface_at(220.0 + t * direction.x(), 90.0 + t * direction.y(), n, v) ? inside : outside) = t;
+    }
+    EXPECT_TRUE(
+        persp.surface_at(220.0 + (inside - 0.01) * direction.x(), 90.0 + (inside - 0.01) * direction.y(), n, v));
     EXPECT_LT(n.dot(v), 0.1);
-    EXPECT_FALSE(persp.surface_at(220.0 + side * 40.2 * radial.x(), 90.0 + side * 40.2 * radial.y(), n, v));
-  }
+    return inside;
+  };
+  const double along = edge(radial) + edge(-radial), across = edge(Eigen::Vector2d(-radial.y(), radial.x())) * 2;
+  EXPECT_GT(along, 80.5);
+  EXPECT_LT(across, 79.5);
 }
 
 TEST(SphereGeometry, NormalMapCheckMeasuresHowFarTheSphereIsOff) {

@@ -20,8 +20,8 @@
 
 namespace brdffit {
 
-// The sphere's outline in the picture (for a perspective camera, the circle closest to its
-// slightly elliptical silhouette).
+// The sphere's outline in the picture (for a perspective camera, whose silhouette of a sphere off
+// the principal point is an ellipse: the circle of the same centre and area).
 struct Circle {
   double x = 0.0, y = 0.0;  // centre, pixels
   double radius = 0.0;      // pixels
