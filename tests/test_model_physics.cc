@@ -1,7 +1,7 @@
 // Physical invariants of every model: reciprocity of every BRDF, and energy: the directional
 // albedo of every normalised lobe is at most 1 (by a quadrature validated here on lobes whose
 // albedo is known), while each physically based model not declared energy conserving is shown
-// to exceed 1 where its header says it does. (Non-negativity and finiteness: AllModels.NonNegative
+// to exceed 1 where its header says it does. (Non-negativity and finiteness: AllModels.NonNegativeAndFinite
 // in test_models.cc.)
 #include <gtest/gtest.h>
 

@@ -145,15 +145,18 @@ TEST(AllModels, AutodiffGradientsMatchCentralDifferences) {
   }
 }
 
-TEST(AllModels, NonNegative) {
+TEST(AllModels, NonNegativeAndFinite) {
+  // Over every parameter's whole range, bounds included, and directions up to 89.99° (grazing).
   std::mt19937_64 rng(11);
   for (const auto& m : all_models()) {
     SCOPED_TRACE(m->name());
-    for (int trial = 0; trial < 2000; ++trial) {
-      const std::vector<double> values = test::random_values(*m, rng, 0.0);
-      const Vec3 l = test::random_upper_direction(rng, 0.0), v = test::random_upper_direction(rng, 0.0);
+    for (int trial = 0; trial < 4000; ++trial) {
+      const std::vector<double> values = test::random_values_with_bounds(*m, rng);
+      const Vec3 l = test::random_direction_up_to(rng, 89.99), v = test::random_direction_up_to(rng, 89.99);
       const Rgb<double> s = m->shade(values.data(), l, v);
-      for (int c = 0; c < 3; ++c) ASSERT_GE(s[c], 0.0) << "l " << l.transpose() << " v " << v.transpose();
+      for (int c = 0; c < 3; ++c)
+        ASSERT_TRUE(std::isfinite(s[c]) && s[c] >= 0.0) << s[c] << " at l " << l.transpose() << " v " << v.transpose()
+                                                        << " values " << ::testing::PrintToString(values);
     }
   }
 }
