@@ -1,6 +1,6 @@
 // The commands of brdffit, and the hand-over of the image commands to brdffit-imaging: brdffit
 // itself links no image library, so that `brdffit models` or `brdffit fit` start in a few
-// milliseconds and a few megabytes (README, "Two executables").
+// milliseconds and a few megabytes (docs/architecture.md, "Two executables").
 #include <unistd.h>
 
 #include <fmt/format.h>

@@ -1,5 +1,5 @@
 // The Python module `brdffit`: the model library and its evaluation (this file), samples and
-// tables (samples.cc), fits and scores (fitting.cc). Usage: the README's "Python" section.
+// tables (samples.cc), fits and scores (fitting.cc). Usage: docs/library.md, "Python".
 #include <fmt/format.h>
 #include <pybind11/stl.h>
 

@@ -1,4 +1,4 @@
-// A batch over the ranks of an MPI job: `mpirun -n N brdffit batch ...` (README, "Batches").
+// A batch over the ranks of an MPI job: `mpirun -n N brdffit batch ...` (docs/cluster.md, "MPI").
 //
 // Rank 0 hands the materials out one per request, largest input first (dynamic load
 // balancing: a rank that finishes early asks again), and fits none itself; every other rank
