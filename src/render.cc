@@ -120,6 +120,18 @@ cv::Mat half_diff_slice(const BrdfFunction& brdf, int size) {
   return image;
 }
 
+cv::Mat slice_mask(int size, double max_angle_deg) {
+  const double min_cosine = std::cos(max_angle_deg * kPi / 180.0);
+  cv::Mat mask(size, size, CV_8U);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      const double u = (x + 0.5) / size;  // half_diff_slice's θh and θd
+      const double theta_h = u * u * (kPi / 2), theta_d = (y + 0.5) / size * (kPi / 2);
+      mask.at<uint8_t>(y, x) = std::cos(theta_h) * std::cos(theta_d) >= min_cosine ? 255 : 0;
+    }
+  return mask;
+}
+
 std::vector<double> in_plane_curve(const BrdfFunction& brdf, double theta_i_deg, int points) {
   const double theta_i = theta_i_deg * kPi / 180.0;
   const Vec3 l(-std::sin(theta_i), 0.0, std::cos(theta_i));
@@ -233,6 +245,23 @@ cv::Mat error_heatmap(const cv::Mat& difference, double full_scale, const cv::Ma
       if (std::isnan(difference.at<float>(y, x)) || (!mask.empty() && !mask.at<uint8_t>(y, x)))
         image.at<cv::Vec3f>(y, x) = cv::Vec3f::all(kNoData);
   return image;
+}
+
+ErrorPanel robust_error_panel(const cv::Mat& difference, double q, const cv::Mat& scale_mask, int decades) {
+  double scale = quantile(difference, q, scale_mask);
+  if (!(scale > 0.0)) scale = quantile(difference, 1.0, scale_mask);
+  if (!(scale > 0.0)) scale = 1.0;
+  if (decades <= 0) return {error_heatmap(difference, scale), scale};
+  cv::Mat position(difference.size(), CV_32F);  // 0 at scale·10^-decades, 1 at scale; NaN stays NaN
+  const double bottom = std::log10(scale) - decades;
+  for (int y = 0; y < difference.rows; ++y)
+    for (int x = 0; x < difference.cols; ++x) {
+      const float d = difference.at<float>(y, x);
+      position.at<float>(y, x) = std::isnan(d) ? NAN
+                                 : d > 0.0f    ? static_cast<float>(std::max(0.0, (std::log10(d) - bottom) / decades))
+                                               : 0.0f;
+    }
+  return {error_heatmap(position, 1.0), scale};
 }
 
 }  // namespace brdffit

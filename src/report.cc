@@ -36,6 +36,17 @@ constexpr int kPhotographsShown = 4;
 constexpr int kPolarDecades = 3;
 constexpr int kCurvePoints = 179;  // θo = -89°..89° in 1° steps
 constexpr const char* kIncidenceColours[] = {"#1f77b4", "#2ca02c", "#d62728", "#9467bd", "#ff7f0e"};
+constexpr int kPolarWidth = 220, kPolarHeight = 122;
+constexpr int kSliceAxisWidth = 26;  // the θd axis left of a slice
+// A slice's tone reference and each slice |error| panel's full scale are 99th percentiles over the
+// pixels whose light and view are within 80° of the normal (Ngan's cut-off, fit's --max-angle):
+// beyond, where a table of f·cosθ is divided by a vanishing cosine, a few rows are orders of
+// magnitude brighter and would otherwise set the scale; they saturate instead. Within 80° a glossy
+// table's f still spans decades from head-on to grazing (on the bundled vinyl the median |error| of
+// a GGX fit is 1/400 of its 99th percentile), so the |error| colours follow log10 over 3 decades.
+constexpr double kSliceScaleQuantile = 0.99;
+constexpr double kSliceScaleMaxAngle = 80.0;
+constexpr int kSliceErrorDecades = 3;
 
 std::string html(const std::string& text) { return escape_markup(text); }
 
@@ -61,7 +72,7 @@ std::string image_tag(const cv::Mat& display, const std::string& alt) {
 
 // A θh/θd slice (half_diff_slice's layout) with its axes: θh along the bottom, θd down the left.
 std::string slice_with_axes(const cv::Mat& display, const std::string& alt) {
-  const int size = display.cols, axis = 26;
+  const int size = display.cols, axis = kSliceAxisWidth;
   std::string left = fmt::format("<svg width=\"{0}\" height=\"{1}\" viewBox=\"0 0 {0} {1}\">", axis, size);
   for (double t : kThetaDTicks) {
     const double y = std::clamp(t / 90.0 * size, 0.5, size - 0.5);
@@ -144,7 +155,7 @@ std::string polyline(const std::vector<double>& curve, const PolarScale& scale, 
 
 // The plane of incidence, normal up, light on the left: dashed the measured curves, solid the model's.
 std::string polar_svg(const Row* measured, const Row* model, const PolarScale& scale, const ReportOptions& options) {
-  const double width = 220, height = 122, cx = 110, cy = 114, r = 100;
+  const double width = kPolarWidth, height = kPolarHeight, cx = 110, cy = 114, r = 100;
   std::string svg = fmt::format(
       "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" viewBox=\"0 0 {} {}\" class=\"polar\">",
       width, height, width, height);
@@ -179,7 +190,7 @@ std::string colour_bar() {
 }
 
 const char* kStyle = R"(
-body { font-family: system-ui, sans-serif; margin: 2em auto; max-width: 1400px; padding: 0 1em; color: #222; }
+body { font-family: system-ui, sans-serif; margin: 2em auto; max-width: 1560px; padding: 0 1em; color: #222; }
 h1 { margin-bottom: 0.2em; } h2 { margin-top: 2em; border-bottom: 1px solid #ccc; }
 table { border-collapse: collapse; margin: 0.8em 0; }
 th, td { padding: 3px 8px; border-bottom: 1px solid #eee; vertical-align: middle; }
@@ -190,12 +201,17 @@ td.num { text-align: right; font-variant-numeric: tabular-nums; }
 .matrix td.poor { background: #fde2c8; color: #8a3b00; }
 .poor-verdict, .warning { color: #8a3b00; }
 .matrix td.poor::after { content: " poor"; font-size: 0.8em; }
-.pictures td { padding: 2px; }
-.pictures th.row { text-align: left; min-width: 9em; font-weight: normal; }
+.pictures { margin: 0.8em 0; }
+.pictures .row { display: flex; flex-wrap: wrap; align-items: flex-start; gap: 4px 6px; padding: 4px 0;
+  border-bottom: 1px solid #eee; }
+.pictures .head { font-weight: bold; border-bottom: 1px solid #ccc; }
+.pictures .row > div { flex: 0 0 auto; }
+.pictures .row > .label { flex: 0 0 9em; }
+.pictures .row > .params { flex: 1 1 20em; min-width: 16em; overflow-wrap: anywhere; }
 .pictures img { display: block; background: #000; }
+.caption { font-size: 0.75em; color: #555; }
 img.slice { image-rendering: pixelated; }
 .params { font-size: 0.8em; color: #555; }
-.pictures td.params { min-width: 22em; }
 .meta, .legend { color: #555; font-size: 0.9em; }
 .legend img { display: inline-block; vertical-align: middle; margin: 0 0.4em; }
 .note { background: #fff4ce; padding: 0.4em 0.8em; }
@@ -205,7 +221,8 @@ img.slice { image-rendering: pixelated; }
 #image-check[data-broken]:not([data-broken="0"]) { background: #fdd; padding: 0.4em; }
 )";
 
-// Marks images that did not load, for people and for the headless-browser test.
+// Marks images that did not load, and counts boxes whose content is wider than they are, for people
+// and for the headless-browser test.
 const char* kImageCheck = R"(<script>
 window.addEventListener('load', function () {
   var images = Array.prototype.slice.call(document.images);
@@ -213,6 +230,9 @@ window.addEventListener('load', function () {
   var status = document.getElementById('image-check');
   status.setAttribute('data-total', images.length);
   status.setAttribute('data-broken', broken.length);
+  // Content wider than its box (the page, or a material's pictures) would scroll sideways.
+  var boxes = [document.documentElement].concat(Array.prototype.slice.call(document.querySelectorAll('.pictures')));
+  status.setAttribute('data-sideways', boxes.filter(function (b) { return b.scrollWidth > b.clientWidth + 1; }).length);
   if (broken.length) status.textContent = broken.length + ' of ' + images.length + ' images failed to load';
 });
 </script>)";
@@ -389,22 +409,23 @@ std::string material_html(const FitDocument& document, const MaterialRanking& ra
   const auto pictured_row = std::find_if(rows.begin(), rows.end(), [](const Row& r) { return !r.sphere.empty(); });
   const Row* measured = table ? &rows.front() : nullptr;
   const double sphere_reference = pictured_row == rows.end() ? 1.0 : tone_reference(pictured_row->sphere, mask);
-  const double slice_reference = pictured_row == rows.end() ? 1.0 : tone_reference(pictured_row->slice);
+  const cv::Mat slice_scale_mask = slice_mask(options.slice_size, kSliceScaleMaxAngle);
+  const double slice_reference =
+      pictured_row == rows.end() ? 1.0 : tone_reference(pictured_row->slice, slice_scale_mask);
   const double environment_reference =
       pictured_row == rows.end() ? 1.0 : tone_reference(pictured_row->environment, mask);
-  // The absolute error maps share one scale per material, full at the largest 99th percentile
-  // of any model's error: the worst fit's worst pixels saturate, every other shade is readable.
-  double sphere_error_scale = 0.0, slice_error_scale = 0.0;
+  // The spheres' absolute error maps share one scale per material, full at the largest 99th
+  // percentile of any model's error: the worst fit's worst pixels saturate, every other shade is
+  // readable. Each slice's map has its own (robust_error_panel), written under it.
+  double sphere_error_scale = 0.0;
   if (measured)
     for (Row& row : rows) {
       if (&row == measured || row.sphere.empty()) continue;
       row.sphere_error = channel_max_difference(row.sphere, measured->sphere);
       row.slice_error = channel_max_difference(row.slice, measured->slice);
       sphere_error_scale = std::max(sphere_error_scale, quantile(row.sphere_error, 0.99, mask));
-      slice_error_scale = std::max(slice_error_scale, quantile(row.slice_error, 0.99));
     }
   if (!(sphere_error_scale > 0.0)) sphere_error_scale = sphere_reference;
-  if (!(slice_error_scale > 0.0)) slice_error_scale = slice_reference;
   std::vector<const Row*> scale_rows;
   for (const Row& row : rows)
     if (!row.curves.empty() && (!measured || &row == measured)) scale_rows.push_back(&row);
@@ -426,70 +447,84 @@ std::string material_html(const FitDocument& document, const MaterialRanking& ra
       "<p class=\"legend\">Spheres: light from ({:.2g}, {:.2g}, {:.2g}), seen from ({:.2g}, {:.2g}, {:.2g}); f·cosθi "
       "tone-mapped with reference {:.4g} ({}). Environment: the sphere under a sky with a warm key light from the "
       "upper left, {} directional lights (reference {:.4g}). Slices: f at φd = 90°, θh → right (√-spaced), θd ↓, "
-      "reference {:.4g}.<br>",
+      "reference {:.4g} (99th percentile where θi, θo ≤ {:g}°).<br>",
       l.x(), l.y(), l.z(), v.x(), v.y(), v.z(), sphere_reference,
       measured ? "99th percentile of the measured sphere" : "the best model's, no measured data", kEnvironmentLights,
-      environment_reference, slice_reference);
+      environment_reference, slice_reference, kSliceScaleMaxAngle);
   if (measured)
     out += fmt::format(
-        "|fit − measured| (largest channel): spheres 0 {} {:.3g}, slices 0 {} {:.3g} (the largest 99th percentile of "
-        "any model's).<br>"
+        "|fit − measured| (largest channel): spheres 0 {} {:.3g} (the largest 99th percentile of any model's); "
+        "slices log10 over {} decades {} up to each panel's own {:g}th percentile of |error| where θi, θo ≤ {:g}°, "
+        "written under it (the grazing pixels beyond saturate rather than set the scale).<br>"
         "(fit − measured) / measured in luminance (measured floored at {:g} % of the reference): −{:g} % {} +{:g} %: "
         "blue where the fit is too dark, red where it is too bright.<br>",
-        bar, sphere_error_scale, bar, slice_error_scale, 100 * kRelativeFloor, 100 * kRelativeFullScale, signed_bar,
-        100 * kRelativeFullScale);
+        bar, sphere_error_scale, kSliceErrorDecades, bar, 100 * kSliceScaleQuantile, kSliceScaleMaxAngle,
+        100 * kRelativeFloor, 100 * kRelativeFullScale, signed_bar, 100 * kRelativeFullScale);
   out +=
       fmt::format("In-plane curves, log10 f over {} decades, light on the left: {}; dashed measured, solid model.</p>",
                   kPolarDecades, incidence);
   out += photographs_html(document, ranking, options);
 
-  out +=
-      "<div class=\"scroll\"><table class=\"pictures\"><tr><th></th><th>sphere</th><th>environment</th>"
-      "<th>|error|</th><th>relative error</th><th>θh/θd slice</th><th>|error|</th><th>relative error</th>"
-      "<th>in plane</th><th>parameters</th></tr>";
+  // A row per picture set: fixed-width boxes, so that when the window is narrow they wrap at the
+  // same place in every row and in the heading; the parameters and warnings take what is left of
+  // the row or a line of their own below the pictures (no sideways scrolling).
+  const auto box = [](const char* kind, const std::string& content) {
+    return fmt::format("<div class=\"{}\">{}</div>", kind, content);
+  };
+  out += "<div class=\"pictures\"><div class=\"row head\">" + box("label", "") + box("c-sphere", "sphere") +
+         box("c-sphere", "environment") + box("c-sphere", "|error|") + box("c-sphere", "relative error") +
+         box("c-axes", "θh/θd slice") + box("c-slice", "|error|") + box("c-slice", "relative error") +
+         box("c-polar", "in plane") + "</div>";
   for (const Row& row : rows) {
     const bool is_measured = &row == measured;
-    out += "<tr><th class=\"row\">" + html(row.label);
+    std::string label = html(row.label);
     if (!is_measured)
-      out += fmt::format("<br><span class=\"params\">{} {:.4g}</span>", metric_name(*options.metric), row.error);
-    if (row.fit && row.fit->verdict == Verdict::Poor) out += "<br><span class=\"poor-verdict\">poor fit</span>";
-    out += "</th>";
+      label += fmt::format("<br><span class=\"params\">{} {:.4g}</span>", metric_name(*options.metric), row.error);
+    if (row.fit && row.fit->verdict == Verdict::Poor) label += "<br><span class=\"poor-verdict\">poor fit</span>";
+    out += "<div class=\"row\">" + box("label", label);
     if (!row.note.empty()) {
-      out += fmt::format("<td colspan=\"9\" class=\"failed\">{}</td></tr>", html(row.note));
+      out += box("failed", html(row.note)) + "</div>";
       continue;
     }
     const bool compared = measured && !is_measured;
-    out += "<td>" + image_tag(tone_map(row.sphere, sphere_reference), row.label + " sphere") + "</td>";
-    out += "<td>" + image_tag(tone_map(row.environment, environment_reference), row.label + " environment") + "</td>";
-    out += "<td>";
+    out += box("c-sphere", image_tag(tone_map(row.sphere, sphere_reference), row.label + " sphere"));
+    out += box("c-sphere", image_tag(tone_map(row.environment, environment_reference), row.label + " environment"));
+    out += box("c-sphere", compared ? image_tag(error_heatmap(row.sphere_error, sphere_error_scale, mask),
+                                                row.label + " sphere error")
+                                    : "");
+    out += box("c-sphere", compared
+                               ? image_tag(signed_heatmap(signed_relative_difference(row.sphere, measured->sphere,
+                                                                                     kRelativeFloor * sphere_reference),
+                                                          kRelativeFullScale, mask),
+                                           row.label + " sphere relative error")
+                               : "");
+    out += box("c-axes", slice_with_axes(tone_map(row.slice, slice_reference), row.label + " slice"));
     if (compared) {
-      out += image_tag(error_heatmap(row.sphere_error, sphere_error_scale, mask), row.label + " sphere error");
-      out += "</td><td>";
-      out += image_tag(
-          signed_heatmap(signed_relative_difference(row.sphere, measured->sphere, kRelativeFloor * sphere_reference),
-                         kRelativeFullScale, mask),
-          row.label + " sphere relative error");
+      const ErrorPanel panel =
+          robust_error_panel(row.slice_error, kSliceScaleQuantile, slice_scale_mask, kSliceErrorDecades);
+      out += box("c-slice",
+                 image_tag(panel.image, row.label + " slice error") +
+                     fmt::format("<div class=\"caption\" title=\"log10 |error| over {3} decades, full at the {0:g}th "
+                                 "percentile of this panel's |error| where θi, θo ≤ {1:g}°\">log {2:.2g} – {4:.3g} "
+                                 "(p{0:g}, θ ≤ {1:g}°)</div>",
+                                 100 * kSliceScaleQuantile, kSliceScaleMaxAngle,
+                                 panel.full_scale * std::pow(10.0, -kSliceErrorDecades), kSliceErrorDecades,
+                                 panel.full_scale));
+      out += box("c-slice", image_tag(signed_heatmap(signed_relative_difference(row.slice, measured->slice,
+                                                                                kRelativeFloor * slice_reference),
+                                                     kRelativeFullScale),
+                                      row.label + " slice relative error"));
     } else {
-      out += "</td><td>";
+      out += box("c-slice", "") + box("c-slice", "");
     }
-    out += "</td><td>" + slice_with_axes(tone_map(row.slice, slice_reference), row.label + " slice") + "</td><td>";
-    if (compared) {
-      out += image_tag(error_heatmap(row.slice_error, slice_error_scale), row.label + " slice error");
-      out += "</td><td>";
-      out += image_tag(
-          signed_heatmap(signed_relative_difference(row.slice, measured->slice, kRelativeFloor * slice_reference),
-                         kRelativeFullScale),
-          row.label + " slice relative error");
-    } else {
-      out += "</td><td>";
-    }
-    out += "</td><td>" + polar_svg(measured, is_measured ? nullptr : &row, scale, options) + "</td>";
+    out += box("c-polar", polar_svg(measured, is_measured ? nullptr : &row, scale, options));
     std::string warnings;
     if (row.fit)
       for (const std::string& w : row.fit->warnings) warnings += "<br><span class=\"warning\">⚠ " + html(w) + "</span>";
-    out += "<td class=\"params\">" + (row.fit ? parameters_html(*row.fit) : std::string()) + warnings + "</td></tr>";
+    if (row.fit) out += box("params", parameters_html(*row.fit) + warnings);
+    out += "</div>";
   }
-  out += "</table></div>";
+  out += "</div>";
   if (!failures.empty()) out += "<p class=\"failed\">Fits that failed:</p><ul class=\"failed\">" + failures + "</ul>";
   return out + "</section>\n";
 }
@@ -518,7 +553,11 @@ std::string report_html(const std::vector<FitDocument>& documents, const ReportO
   const std::string bar = colour_bar(), signed_bar = signed_colour_bar();
 
   std::string page = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>brdffit report</title>";
-  page += fmt::format("<style>{}</style></head><body>\n", kStyle);
+  // The picture boxes' widths, from the picture sizes.
+  const std::string widths = fmt::format(
+      ".c-sphere {{ width: {}px; }} .c-axes {{ width: {}px; }} .c-slice {{ width: {}px; }} .c-polar {{ width: {}px; }}",
+      options.sphere_size, options.slice_size + kSliceAxisWidth, options.slice_size, kPolarWidth);
+  page += fmt::format("<style>{}{}</style></head><body>\n", kStyle, widths);
   page += fmt::format(
       "<header><h1>brdffit report</h1><p class=\"meta\">{}, {}, ranked by the {} metric · brdffit "
       "{}</p>"

@@ -11,6 +11,7 @@
 #include "batch_test_util.h"
 #include "brdffit/image_io.h"
 #include "brdffit/merl.h"
+#include "brdffit/render.h"
 #include "sphere_scenes.h"
 
 namespace brdffit {
@@ -181,6 +182,85 @@ TEST_F(Report, ErrorMapsDoNotSaturate) {
   EXPECT_GT(white, 0.9 * sphere);
 }
 
+// The sRGB code of the brightest channel of a display picture's pixel, as the PNG stores it.
+int brightest_code(const cv::Mat& display, int y, int x) {
+  cv::Mat pixel = display(cv::Rect(x, y, 1, 1)).clone();
+  linear_to_srgb(pixel);
+  const cv::Vec3f p = pixel.at<cv::Vec3f>(0, 0);
+  return static_cast<int>(std::lround(255.0 * std::clamp(std::max({p[0], p[1], p[2]}), 0.0f, 1.0f)));
+}
+
+TEST(ReportErrorScale, ASliceKeepsItsTypicalErrorVisibleBesideHugeGrazingPixels) {
+  // A slice's |error|: typical values 0.005..0.015 (a deterministic ripple), 1000 times that
+  // beyond 80° (a table of f·cosθ divided by a vanishing cosine), and one pixel in 200 within 80°
+  // an outlier of 5. The scale is the 99th percentile within 80°: the outliers (0.5 %) stay above
+  // it, so it is the typical values' top, about 0.015, and a typical 0.01 shows bright.
+  const int size = 128;
+  const cv::Mat within = slice_mask(size, 80.0);
+  // half_diff_slice's pixel centres: θd = (y + ½)/128·90° is 79.8° at y = 113 and 80.5° at 114 (θh ≈ 0
+  // in column 0); θh = ((x + ½)/128)²·90° is 79.8° at x = 120 and 81.1° at 121 (θd = 0.35° in row 0).
+  EXPECT_EQ(within.at<uint8_t>(113, 0), 255);
+  EXPECT_EQ(within.at<uint8_t>(114, 0), 0);
+  EXPECT_EQ(within.at<uint8_t>(0, 120), 255);
+  EXPECT_EQ(within.at<uint8_t>(0, 121), 0);
+  cv::Mat error(size, size, CV_32F);
+  int inside = 0;
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      const float typical = 0.005f + 0.01f * static_cast<float>((7 * x + 13 * y) % 101) / 100.0f;
+      if (!within.at<uint8_t>(y, x))
+        error.at<float>(y, x) = 1000.0f * typical;
+      else
+        error.at<float>(y, x) = ++inside % 200 == 0 ? 5.0f : typical;
+    }
+  error.at<float>(0, 0) = 0.01f;  // the typical pixel looked at below
+
+  const ErrorPanel linear = robust_error_panel(error, 0.99, within);
+  EXPECT_GT(linear.full_scale, 0.0145);
+  EXPECT_LE(linear.full_scale, 0.015 + 1e-6);
+  // 0.01 of ~0.015 is two thirds up inferno: an orange well above black (its code 0.67·255 in the
+  // map's red channel, ≥ 200); the grazing pixels saturate at the map's pale yellow top.
+  EXPECT_GT(brightest_code(linear.image, 0, 0), 180);
+  EXPECT_GT(brightest_code(linear.image, size - 1, 0), 240);
+  // Scaled by the largest value, as a plain maximum would, the same pixel is black.
+  EXPECT_LT(brightest_code(error_heatmap(error, 15.0), 0, 0), 20);
+
+  // On a log scale over 3 decades below the same top, 0.01 sits at (3 + log10(0.01/0.015))/3 = 0.94
+  // of the map, and an error a thousandth of the typical one is black.
+  const ErrorPanel logarithmic = robust_error_panel(error, 0.99, within, 3);
+  EXPECT_DOUBLE_EQ(logarithmic.full_scale, linear.full_scale);
+  EXPECT_GT(brightest_code(logarithmic.image, 0, 0), 230);
+  error.at<float>(0, 0) = 1e-5f;
+  EXPECT_LT(brightest_code(robust_error_panel(error, 0.99, within, 3).image, 0, 0), 20);
+}
+
+TEST_F(Report, EachSliceErrorPanelSaysItsScaleAndShowsTheBulkOfTheError) {
+  const std::string html = page();
+  // Under each slice |error| panel (two tables, three models each) its scale, and the legend's rule.
+  size_t captions = 0;
+  for (size_t at = html.find("(p99, θ ≤ 80°)</div>"); at != std::string::npos;
+       at = html.find("(p99, θ ≤ 80°)</div>", at + 1))
+    ++captions;
+  EXPECT_EQ(captions, 2u * 3);
+  EXPECT_NE(html.find("up to each panel's own 99th percentile of |error| where θi, θo ≤ 80°"), std::string::npos);
+  // Lambert on the GGX plastic: a third of its slice (38 % when this was written) is within three
+  // decades of the panel's top, so shows coloured (not black, not the no-data grey); at most 1 % of
+  // the pixels within 80° lie above the 99th percentile, and those at the colour map's pale yellow
+  // top (codes above 240 in red and green) are hardly more (the top code spans 3/255 of a decade).
+  const cv::Mat lambert = picture(html, "plastic", "3. lambert slice error");
+  ASSERT_FALSE(lambert.empty());
+  const cv::Mat within = slice_mask(lambert.rows, 80.0);
+  int shown = 0, saturated = 0;
+  for (int y = 0; y < lambert.rows; ++y)
+    for (int x = 0; x < lambert.cols; ++x) {
+      const cv::Vec3b p = lambert.at<cv::Vec3b>(y, x);  // BGR
+      shown += std::max({p[0], p[1], p[2]}) > 60 && !(p[0] == p[1] && p[1] == p[2]);
+      saturated += within.at<uint8_t>(y, x) && p[2] > 240 && p[1] > 240;
+    }
+  EXPECT_GT(shown, lambert.rows * lambert.cols / 4);
+  EXPECT_LE(saturated, 0.015 * cv::countNonZero(within));
+}
+
 TEST(SphereReport, ShowsThePhotographsBesideTheBestFitUnderTheSameLight) {
   // Photographs of a GGX sphere under four lights of different intensities, fitted; the report
   // shows four photographs, each beside GGX rendered with the document's light, intensity and
@@ -249,6 +329,23 @@ TEST_F(Report, ChromiumLoadsThePageWithEveryImage) {
       << dom.output.substr(at, 200);
   EXPECT_EQ(total, image_sources(page()).size());
   EXPECT_EQ(broken, 0u);
+  EXPECT_NE(dom.output.find("data-sideways=\"0\""), std::string::npos) << dom.output.substr(at, 200);
+
+  // At the default picture sizes, the page fits a window 1600 pixels wide: the pictures, polar
+  // plots, parameters and warnings wrap or stack, nothing scrolls sideways.
+  const std::string full = dir_ + "/report-full.html";
+  const auto report = test::run_cli("report " + dir_ + "/fits -o " + full);
+  ASSERT_EQ(report.exit_code, 0) << report.output;
+  std::string wide = browser;
+  wide.replace(wide.find("--window-size=1280,2000"), std::string("--window-size=1280,2000").size(),
+               "--window-size=1600,2000");
+  const test::CommandResult full_dom =
+      test::run_command(wide + "--virtual-time-budget=20000 --dump-dom file://" + full);
+  const size_t check = full_dom.output.find("id=\"image-check\"");
+  ASSERT_NE(check, std::string::npos) << full_dom.output.substr(0, 2000);
+  const std::string status = full_dom.output.substr(check, full_dom.output.find('>', check) - check);
+  EXPECT_NE(status.find("data-broken=\"0\""), std::string::npos) << status;
+  EXPECT_NE(status.find("data-sideways=\"0\""), std::string::npos) << status;
 }
 
 }  // namespace

@@ -61,6 +61,10 @@ cv::Mat render_environment_sphere(const BrdfFunction& brdf, int size);
 // θd from 0 (top) to 90°. At φd = 90° both directions stay above the horizon (n·l = n·v =
 // cosθh·cosθd), so every pixel has a value.
 cv::Mat half_diff_slice(const BrdfFunction& brdf, int size);
+// The pixels of half_diff_slice(size) whose light and view are both within max_angle_deg of the
+// normal (CV_8U, 255 inside): at φd = 90° both are at arccos(cosθh·cosθd). Outside, near grazing,
+// a table of f·cosθ divided by a vanishing cosine gives values orders of magnitude above the rest.
+cv::Mat slice_mask(int size, double max_angle_deg);
 
 // Luminance (Rec. 709) of f in the plane of incidence, light at theta_i_deg from the normal on
 // the -x side: one value per outgoing angle θo = -89°..89° in `points` steps, negative θo on the
@@ -93,5 +97,19 @@ cv::Mat signed_heatmap(const cv::Mat& values, double full_scale, const cv::Mat& 
 cv::Mat channel_max_difference(const cv::Mat& a, const cv::Mat& b);
 // heatmap() of a difference, full at full_scale; dark grey where mask is zero or the difference is NaN.
 cv::Mat error_heatmap(const cv::Mat& difference, double full_scale, const cv::Mat& mask = cv::Mat());
+// An |error| panel on its own robust scale: error_heatmap of every pixel, full at the q-quantile of
+// the finite values where scale_mask is non-zero (every pixel when it is empty), so that a few
+// extreme pixels (a slice's grazing rows, see slice_mask) saturate instead of setting the scale and
+// leaving every other pixel black. When that quantile is 0, the largest such value (1 when all are
+// 0). With decades > 0 the colours follow log10 |error| over that many decades below the full
+// scale (black at or below full scale·10^-decades), for errors that span orders of magnitude, as a
+// glossy table's f does from head-on to grazing. The scale is returned with the picture, for its
+// caption.
+struct ErrorPanel {
+  cv::Mat image;
+  double full_scale = 1.0;
+};
+ErrorPanel robust_error_panel(const cv::Mat& difference, double q, const cv::Mat& scale_mask = cv::Mat(),
+                              int decades = 0);
 
 }  // namespace brdffit

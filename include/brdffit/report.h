@@ -7,12 +7,17 @@
 // of `brdffit report`.
 //
 // Every picture of a material shares one tone mapping (render.h's tone_map, its reference the
-// 99th percentile of the measured picture, or of the best model's when the table cannot be read),
-// so brightness differences between measured and fitted pictures are real. The absolute error
-// maps show the largest channel's |fit − measured|, full colour at the largest 99th percentile of
-// any model's error on that material; the relative ones (fit − measured)/measured in luminance,
-// full blue or red at ±50 %.
-// The page marks images that fail to load in #image-check (data-total, data-broken) once loaded.
+// 99th percentile of the measured picture, or of the best model's when the table cannot be read;
+// for slices over the pixels whose light and view are within 80° of the normal, render.h's
+// slice_mask), so brightness differences between measured and fitted pictures are real. The
+// absolute error maps show the largest channel's |fit − measured|: the spheres' full colour at the
+// largest 99th percentile of any model's error on that material, each slice's at its own 99th
+// percentile within 80° (robust_error_panel: the grazing rows beyond, orders of magnitude larger
+// in a table of f·cosθ, saturate), written under it. The relative ones show (fit − measured) /
+// measured in luminance, full blue or red at ±50 %. The pictures of a row wrap, and the
+// parameters and warnings go below them, so that the page never scrolls sideways.
+// The page marks images that fail to load in #image-check (data-total, data-broken) once loaded,
+// and how many boxes would scroll sideways (data-sideways: the page or a material's pictures).
 #pragma once
 
 #include <functional>
