@@ -502,10 +502,10 @@ std::string materialx_document(const Material& material, const std::string& comm
   for (const ParamSpec& p : model.parameters()) {
     const std::vector<double>& v = material.values;
     if (p.channels == 3)
-      xml += fmt::format("    <input name=\"{}\" type=\"color3\" value=\"{:.6f}, {:.6f}, {:.6f}\" />\n", p.name,
+      xml += fmt::format("    <input name=\"{}\" type=\"color3\" value=\"{:.9g}, {:.9g}, {:.9g}\" />\n", p.name,
                          v[offset], v[offset + 1], v[offset + 2]);
     else
-      xml += fmt::format("    <input name=\"{}\" type=\"float\" value=\"{:.6f}\" />\n", p.name, v[offset]);
+      xml += fmt::format("    <input name=\"{}\" type=\"float\" value=\"{:.9g}\" />\n", p.name, v[offset]);
     offset += p.channels;
   }
   xml += "    <input name=\"specular_weight\" type=\"float\" value=\"1\" />\n";
@@ -533,10 +533,10 @@ std::string mitsuba_document(const Material& material, const std::string& commen
   int offset = 0;  // the model's parameters carry the plugin's names
   for (const ParamSpec& p : model.parameters()) {
     if (p.channels == 3)
-      xml += fmt::format("        <rgb name=\"{}\" value=\"{:.6f}, {:.6f}, {:.6f}\"/>\n", p.name, v[offset],
+      xml += fmt::format("        <rgb name=\"{}\" value=\"{:.9g}, {:.9g}, {:.9g}\"/>\n", p.name, v[offset],
                          v[offset + 1], v[offset + 2]);
     else
-      xml += fmt::format("        <float name=\"{}\" value=\"{:.6f}\"/>\n", p.name, v[offset]);
+      xml += fmt::format("        <float name=\"{}\" value=\"{:.9g}\"/>\n", p.name, v[offset]);
     offset += p.channels;
   }
   xml += "        <float name=\"sheen_tint\" value=\"0.5\"/>\n";

@@ -1,16 +1,21 @@
 // export: the metallic-roughness mapping; each format written from its own model's fit and read
 // back to the same numbers; conversions with their error; verdicts; the files checked by their
 // ecosystems' tools (Khronos glTF-Validator, xmllint) where installed; score --material.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <set>
+#include <sstream>
+#include <tuple>
 
 #include "batch_test_util.h"
 #include "brdffit/error.h"
 #include "brdffit/material_export.h"
 #include "brdffit/model.h"
+#include "brdffit/models/gltf.h"
 
 namespace brdffit {
 namespace {
@@ -108,13 +113,53 @@ TEST(ExportCli, EachFormatWritesItsModelsFitUnchangedAndReadsBack) {
   const nlohmann::json ext = nlohmann::json::parse(read_file(dir + "/gold-specular.gltf"));
   EXPECT_EQ(ext["extensionsUsed"], nlohmann::json({"KHR_materials_ior", "KHR_materials_specular"}));
   EXPECT_EQ(ext["materials"][0]["extensions"]["KHR_materials_ior"]["ior"], 1.7);
-  // OpenPBR and Mitsuba: six decimals in the files.
-  expect_round_trip(doc, dir + "/gold.mtlx", "openpbr", kOpenPbr, 5e-7);
+  // OpenPBR and Mitsuba: nine significant digits in the files, so these short decimals come back exactly.
+  expect_round_trip(doc, dir + "/gold.mtlx", "openpbr", kOpenPbr, 0.0);
   // Mitsuba: the mitsuba-principled fit (what the plugin evaluates), not Burley's principled one.
-  expect_round_trip(doc, dir + "/gold.xml", "mitsuba-principled", kMitsubaPrincipled, 5e-7);
+  expect_round_trip(doc, dir + "/gold.xml", "mitsuba-principled", kMitsubaPrincipled, 0.0);
   const std::string mitsuba = read_file(dir + "/gold.xml");
-  EXPECT_NE(mitsuba.find("<float name=\"flatness\" value=\"0.200000\"/>"), std::string::npos) << mitsuba;
-  EXPECT_NE(mitsuba.find("<float name=\"spec_tint\" value=\"0.300000\"/>"), std::string::npos) << mitsuba;
+  EXPECT_NE(mitsuba.find("<float name=\"flatness\" value=\"0.2\"/>"), std::string::npos) << mitsuba;
+  EXPECT_NE(mitsuba.find("<float name=\"spec_tint\" value=\"0.3\"/>"), std::string::npos) << mitsuba;
+}
+
+TEST(ExportCli, SmallValuesSurviveTheXmlFormatsToNineDigits) {
+  // A nearly black albedo and a nearly smooth diffuse or a faint clearcoat: six decimals ("%.6f")
+  // wrote 3e-7 as 0.000000 and 1.23456789e-4 as 0.000123 (three digits). %.9g keeps nine
+  // significant digits of any magnitude: relative error at most 5e-9.
+  const std::string dir = test::fresh_dir("export-small-values");
+  const std::vector<std::string> openpbr = {"base_color=3e-7,1.23456789e-4,0.5",    "base_metalness=2.5e-6",
+                                            "base_diffuse_roughness=1.23456789e-4", "specular_color=1,7.654321e-5,1",
+                                            "specular_roughness=0.0123456789",      "specular_ior=1.00001234"};
+  const std::vector<std::string> mitsuba = {"base_color=3e-7,1.23456789e-4,0.5",
+                                            "metallic=2.5e-6",
+                                            "flatness=1.23456789e-4",
+                                            "specular=0.00123456789",
+                                            "roughness=0.0456789",
+                                            "spec_tint=9.87654321e-8",
+                                            "sheen=1e-9",
+                                            "clearcoat=3.3e-5",
+                                            "clearcoat_gloss=0.999999999"};
+  const std::string doc = test::write_document(dir + "/gold.json", "/data/gold.binary",
+                                               {fit_of("openpbr", openpbr), fit_of("mitsuba-principled", mitsuba)});
+  for (const auto& [out, model, assignments] :
+       {std::tuple{"/gold.mtlx", "openpbr", openpbr}, std::tuple{"/gold.xml", "mitsuba-principled", mitsuba}}) {
+    SCOPED_TRACE(out);
+    const auto run = test::run_cli("export " + doc + " --out " + dir + out);
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    std::vector<std::string> warnings;
+    const Material material = read_material(dir + out, "", warnings);
+    EXPECT_TRUE(warnings.empty()) << warnings.front();
+    const std::vector<double> expected = parameter_values(*find_model(model), assignments);
+    ASSERT_EQ(material.values.size(), expected.size());
+    for (size_t i = 0; i < expected.size(); ++i) {
+      EXPECT_GT(material.values[i], 0.0) << i;  // nothing rounded away
+      EXPECT_NEAR(material.values[i], expected[i], 5e-9 * expected[i]) << i;
+    }
+  }
+  // As written: 3e-7 in the exponent form, the nine digits of 1.23456789e-4.
+  const std::string mtlx = read_file(dir + "/gold.mtlx");
+  EXPECT_NE(mtlx.find("name=\"base_color\" type=\"color3\" value=\"3e-07, 0.000123456789, 0.5\""), std::string::npos)
+      << mtlx;
 }
 
 TEST(ExportCli, ConvertsAnotherFitAndReportsTheConvertedError) {
