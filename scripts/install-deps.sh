@@ -34,9 +34,13 @@ fi
 # npm packages, pinned, into .deps/npm of this checkout: the Khronos glTF-Validator
 # (tests/tools/validate_gltf.js) and three.js, the renderer that draws exported glTF in headless
 # Chromium (tests/tools/render_gltf_three.js; its shading departures from the glTF BRDF are
-# written down in tests/test_gltf_renderer.cc, so a new version is a reviewed change).
+# written down in tests/test_gltf_renderer.cc, so a new version is a reviewed change); and
+# @needle-tools/materialx, MaterialX 1.39.4 built for the web, whose bundled standard library
+# (bin/JsMaterialXGenShader.data.txt) holds the ND_open_pbr_surface_surfaceshader nodedef the
+# exported .mtlx files are checked against (tests/test_export.cc). Three.js comes first: it is
+# that package's peer dependency.
 npm_prefix="$(cd "$(dirname "$0")/.." && pwd)/.deps/npm"
-for package in gltf-validator@2.0.0-dev.3.10 three@0.187.0; do
+for package in gltf-validator@2.0.0-dev.3.10 three@0.187.0 @needle-tools/materialx@1.4.6; do
   name="${package%@*}" version="${package##*@}"
   if ! grep -q "\"version\": \"$version\"" "$npm_prefix/node_modules/$name/package.json" 2>/dev/null; then
     echo "install-deps: installing $package (npm) into $npm_prefix"

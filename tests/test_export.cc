@@ -340,6 +340,100 @@ TEST(ExportTools, XmlIsWellFormedWithThePluginsNames) {
   EXPECT_NE(mitsuba.find("a&lt;b&gt;&amp;c- -d\\x01\\x1B.binary"), std::string::npos) << mitsuba;
 }
 
+// MaterialX's own definition of OpenPBR Surface, as the npm package @needle-tools/materialx
+// (pinned in scripts/install-deps.sh: MaterialX 1.39.4) ships its standard library: the
+// Emscripten file package bin/JsMaterialXGenShader.data.txt holds libraries/bxdf/open_pbr_surface.mtlx
+// at the byte range bin/JsMaterialXGenShader.js lists for it. Read at test time, never copied.
+const std::string kMaterialXPackage = "/@needle-tools/materialx";
+
+std::string materialx_library_file(const std::string& library_path) {
+  const std::string bin = test::npm_modules() + kMaterialXPackage + "/bin/";
+  const std::string loader = read_file(bin + "JsMaterialXGenShader.js");
+  std::smatch range;
+  if (!std::regex_search(loader, range, std::regex("filename:\"" + library_path + "\",start:([0-9]+),end:([0-9]+)")))
+    return "";
+  const size_t start = std::stoul(range[1]), end = std::stoul(range[2]);
+  return read_file(bin + "JsMaterialXGenShader.data.txt").substr(start, end - start);
+}
+
+// The attributes of each element `tag` in `xml` (attribute values hold no quotes in these files).
+std::vector<std::map<std::string, std::string>> elements_of(const std::string& xml, const std::string& tag) {
+  std::vector<std::map<std::string, std::string>> elements;
+  const std::regex element("<" + tag + "\\s([^>]*)>"), attribute("([a-zA-Z_]+)=\"([^\"]*)\"");
+  for (auto e = std::sregex_iterator(xml.begin(), xml.end(), element); e != std::sregex_iterator(); ++e) {
+    const std::string body = (*e)[1];
+    std::map<std::string, std::string>& attributes = elements.emplace_back();
+    for (auto a = std::sregex_iterator(body.begin(), body.end(), attribute); a != std::sregex_iterator(); ++a)
+      attributes[(*a)[1]] = (*a)[2];
+  }
+  return elements;
+}
+
+// "0.5" or "0.1, 0.2, 0.3" (MaterialX writes color3 with commas, with or without spaces).
+std::vector<double> numbers_in(const std::string& text) {
+  std::vector<double> numbers;
+  std::string spaced = text;
+  std::replace(spaced.begin(), spaced.end(), ',', ' ');
+  std::istringstream in(spaced);
+  for (double x; in >> x;) numbers.push_back(x);
+  return numbers;
+}
+
+TEST(ExportTools, MaterialXDefinesEveryInputTheMtlxWritesWithItsTypeAndRange) {
+  REQUIRE_TOOL(std::filesystem::exists(test::npm_modules() + kMaterialXPackage + "/bin/JsMaterialXGenShader.data.txt"),
+               "the npm package @needle-tools/materialx");
+  const std::string library = materialx_library_file("/libraries/bxdf/open_pbr_surface.mtlx");
+  ASSERT_NE(library.find("<materialx version=\"1.39\">"), std::string::npos) << library.substr(0, 200);
+  const size_t begin = library.find("<nodedef name=\"ND_open_pbr_surface_surfaceshader\"");
+  const size_t end = library.find("</nodedef>", begin);
+  ASSERT_NE(begin, std::string::npos);
+  ASSERT_NE(end, std::string::npos);
+  const std::string nodedef = library.substr(begin, end - begin);
+  EXPECT_EQ(elements_of(nodedef, "nodedef").at(0).at("node"), "open_pbr_surface");
+  std::map<std::string, std::map<std::string, std::string>> definition;
+  for (auto& input : elements_of(nodedef, "input")) definition[input.at("name")] = input;
+  ASSERT_GT(definition.size(), 30u);  // the whole nodedef was found, not a fragment
+
+  // The openpbr fit at both ends of every bound and in between.
+  const std::string dir = test::fresh_dir("export-materialx-nodedef");
+  const Model& openpbr = *find_model("openpbr");
+  std::vector<std::string> low, high;
+  for (const ParamSpec& p : openpbr.parameters()) {
+    low.push_back(fmt::format("{}={}", p.name, p.lower));
+    high.push_back(fmt::format("{}={}", p.name, p.upper));
+  }
+  for (const auto& [name, assignments] : {std::pair{"low", low}, std::pair{"mid", kOpenPbr}, std::pair{"high", high}}) {
+    SCOPED_TRACE(name);
+    const std::string doc =
+        test::write_document(dir + "/" + name + ".json", "/data/x.binary", {fit_of("openpbr", assignments)});
+    const auto run = test::run_cli("export " + doc + " --out " + dir + "/" + name + ".mtlx");
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    const std::string mtlx = read_file(dir + "/" + name + ".mtlx");
+    EXPECT_NE(mtlx.find("<materialx version=\"1.39\""), std::string::npos);  // the library's version
+    const size_t shader_begin = mtlx.find("<open_pbr_surface "), shader_end = mtlx.find("</open_pbr_surface>");
+    ASSERT_LT(shader_begin, shader_end);
+    const std::string shader = mtlx.substr(shader_begin, shader_end - shader_begin);
+    const auto inputs = elements_of(shader, "input");
+    EXPECT_EQ(inputs.size(), 9u);  // the model's six parameters and the three held inputs
+    for (const auto& input : inputs) {
+      const std::string& input_name = input.at("name");
+      SCOPED_TRACE(input_name);
+      ASSERT_TRUE(definition.count(input_name)) << "not an input of ND_open_pbr_surface_surfaceshader";
+      const auto& defined = definition.at(input_name);
+      EXPECT_EQ(input.at("type"), defined.at("type"));
+      const std::vector<double> value = numbers_in(input.at("value"));
+      ASSERT_EQ(value.size(), input.at("type") == "color3" ? 3u : 1u);
+      for (const auto& [bound, below] : {std::pair{"uimin", true}, std::pair{"uimax", false}}) {
+        if (!defined.count(bound)) continue;  // e.g. specular_ior has only a soft maximum
+        const std::vector<double> limit = numbers_in(defined.at(bound));
+        ASSERT_EQ(limit.size(), value.size()) << defined.at(bound);
+        for (size_t c = 0; c < value.size(); ++c)
+          EXPECT_TRUE(below ? value[c] >= limit[c] : value[c] <= limit[c]) << bound << " " << defined.at(bound);
+      }
+    }
+  }
+}
+
 TEST(ExportTools, KhronosValidatorFindsNothing) {
   const std::string module_dir = test::npm_modules();
   REQUIRE_TOOL(test::have_tool("node") && std::filesystem::exists(module_dir + "/gltf-validator"),
