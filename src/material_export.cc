@@ -37,10 +37,16 @@ double solve_metallic(double a, double f) {
   return std::clamp(1.0 - t, 0.0, 1.0);
 }
 
-// The metallic-roughness core every renderer material shares.
+// The metallic-roughness core every renderer material shares, with the dielectric's reflection:
+// F0 = specular_weight·((ior-1)/(ior+1))² (tinted by specular_color where the model has one).
+// Each target keeps what it can hold of it: gltf-specular all three; openpbr the ior, folding the
+// weight into it (same F0) and the tint; principled and mitsuba-principled F0 as specular = F0/0.08;
+// gltf none (ior 1.5). A source without them has weight 1 and tint 1.
 struct Core {
   Rgb<double> base_color = Rgb<double>::Constant(0.5);
   double metallic = 0.0, roughness = 0.5, ior = 1.5;
+  double specular_weight = 1.0;
+  Rgb<double> specular_color = Rgb<double>::Ones();
 };
 
 double ior_from_f0(double f0) {
@@ -48,6 +54,8 @@ double ior_from_f0(double f0) {
   return (1.0 + r) / (1.0 - r);
 }
 double f0_from_ior(double ior) { return std::pow((ior - 1.0) / (ior + 1.0), 2); }
+// The dielectric F0 (untinted) of a core: its weight times the ior's.
+double dielectric_f0(const Core& core) { return core.specular_weight * f0_from_ior(core.ior); }
 
 Rgb<double> colour_at(const Model& model, const std::vector<double>& values, const char* name) {
   const int offset = model.offset_of(name);
@@ -77,12 +85,17 @@ Core core_of(const std::string& model_name, const std::vector<double>& values) {
     core.base_color = colour_at(model, values, "baseColor");
     core.metallic = value_at(model, values, "metallic");
     core.roughness = value_at(model, values, "roughness");
-    if (model_name == "gltf-specular") core.ior = value_at(model, values, "ior");
+    if (model_name == "gltf-specular") {
+      core.ior = value_at(model, values, "ior");
+      core.specular_weight = value_at(model, values, "specular");
+      core.specular_color = colour_at(model, values, "specularColor");
+    }
   } else if (model_name == "openpbr") {
     core.base_color = colour_at(model, values, "base_color");
     core.metallic = value_at(model, values, "base_metalness");
     core.roughness = value_at(model, values, "specular_roughness");
     core.ior = value_at(model, values, "specular_ior");
+    core.specular_color = colour_at(model, values, "specular_color");
   } else if (model_name == "principled") {
     core.base_color = colour_at(model, values, "baseColor");
     core.metallic = value_at(model, values, "metallic");
@@ -109,27 +122,33 @@ std::vector<double> values_from_core(const Model& model, const Core& core) {
     const ParamSpec& p = *model.find_parameter(param);
     return std::clamp(value, p.lower, p.upper);
   };
-  const Rgb<double> base = core.base_color.cwiseMax(0.0).cwiseMin(1.0);
+  const Rgb<double> base = core.base_color.cwiseMax(0.0).cwiseMin(1.0),
+                    tint = core.specular_color.cwiseMax(0.0).cwiseMin(1.0);
   if (name == "gltf" || name == "gltf-specular") {
     set_colour(model, values, "baseColor", base);
     set_value(model, values, "metallic", clamp_to("metallic", core.metallic));
     set_value(model, values, "roughness", clamp_to("roughness", core.roughness));
-    if (name == "gltf-specular") set_value(model, values, "ior", clamp_to("ior", core.ior));
-  } else if (name == "openpbr") {
+    if (name == "gltf-specular") {
+      set_value(model, values, "ior", clamp_to("ior", core.ior));
+      set_value(model, values, "specular", clamp_to("specular", core.specular_weight));
+      set_colour(model, values, "specularColor", tint);
+    }
+  } else if (name == "openpbr") {  // its specular_weight is held at 1: the weight goes into the ior
     set_colour(model, values, "base_color", base);
     set_value(model, values, "base_metalness", clamp_to("base_metalness", core.metallic));
     set_value(model, values, "specular_roughness", clamp_to("specular_roughness", core.roughness));
-    set_value(model, values, "specular_ior", clamp_to("specular_ior", core.ior));
+    set_value(model, values, "specular_ior", clamp_to("specular_ior", ior_from_f0(dielectric_f0(core))));
+    set_colour(model, values, "specular_color", tint);
   } else if (name == "principled") {
     set_colour(model, values, "baseColor", base);
     set_value(model, values, "metallic", clamp_to("metallic", core.metallic));
     set_value(model, values, "roughness", clamp_to("roughness", core.roughness));
-    set_value(model, values, "specular", clamp_to("specular", f0_from_ior(core.ior) / 0.08));
+    set_value(model, values, "specular", clamp_to("specular", dielectric_f0(core) / 0.08));
   } else if (name == "mitsuba-principled") {
     set_colour(model, values, "base_color", base);
     set_value(model, values, "metallic", clamp_to("metallic", core.metallic));
     set_value(model, values, "roughness", clamp_to("roughness", core.roughness));
-    set_value(model, values, "specular", clamp_to("specular", f0_from_ior(core.ior) / 0.08));
+    set_value(model, values, "specular", clamp_to("specular", dielectric_f0(core) / 0.08));
   } else {
     fail("{} is not a renderer material (gltf, gltf-specular, openpbr, principled, mitsuba-principled)", name);
   }

@@ -195,6 +195,65 @@ TEST(ExportCli, ConvertsAnotherFitAndReportsTheConvertedError) {
   }
 }
 
+// A parameter of a material by name (the first channel of a colour).
+double value_of(const Material& material, const std::string& param, int channel = 0) {
+  return material.values[find_model(material.model)->offset_of(param) + channel];
+}
+
+// ((η-1)/(η+1))²: a dielectric's reflectance at normal incidence.
+double reflectance_of_ior(double eta) { return std::pow((eta - 1) / (eta + 1), 2); }
+
+TEST(ExportConversion, EveryTargetKeepsTheDielectricReflectionItCanHold) {
+  const Model& gltf_specular = *find_model("gltf-specular");
+  // specular 0: no dielectric reflection whatever the ior. Carried as an ior it was F0 0.25 at
+  // ior 3, principled specular 0.25/0.08 clamped to 1; it is F0 0 in every target.
+  const std::vector<double> unreflecting = parameter_values(
+      gltf_specular,
+      {"baseColor=0.8,0.5,0.25", "metallic=0.3", "roughness=0.45", "ior=3", "specular=0", "specularColor=1,0.9,0.7"});
+  EXPECT_EQ(value_of(convert_material("gltf-specular", unreflecting, "principled"), "specular"), 0.0);
+  EXPECT_EQ(value_of(convert_material("gltf-specular", unreflecting, "mitsuba-principled"), "specular"),
+            0.001);  // the model's floor (the plugin skips the lobe at 0)
+  EXPECT_EQ(value_of(convert_material("gltf-specular", unreflecting, "openpbr"), "specular_ior"), 1.0);
+
+  // A weight between: F0 = 0.5·((1.7-1)/(1.7+1))² = 0.0336 is what every target reflects at normal
+  // incidence; openpbr (specular_weight held at 1) folds the weight into its ior; the tint goes to
+  // openpbr's specular_color.
+  const std::vector<double> half =
+      parameter_values(gltf_specular, {"baseColor=0.8,0.5,0.25", "metallic=0.3", "roughness=0.45", "ior=1.7",
+                                       "specular=0.5", "specularColor=1,0.9,0.7"});
+  const double f0 = 0.5 * (0.7 / 2.7) * (0.7 / 2.7);
+  EXPECT_NEAR(0.08 * value_of(convert_material("gltf-specular", half, "principled"), "specular"), f0, 1e-15);
+  EXPECT_NEAR(0.08 * value_of(convert_material("gltf-specular", half, "mitsuba-principled"), "specular"), f0, 1e-15);
+  const Material openpbr = convert_material("gltf-specular", half, "openpbr");
+  EXPECT_NEAR(reflectance_of_ior(value_of(openpbr, "specular_ior")), f0, 1e-15);
+  for (int c = 0; c < 3; ++c)
+    EXPECT_EQ(value_of(openpbr, "specular_color", c), half[gltf_specular.offset_of("specularColor") + c]);
+
+  // The other way: openpbr's ior and tint become gltf-specular's, with specular weight 1; the
+  // principled models' specular becomes the ior of the same F0.
+  const Material from_openpbr =
+      convert_material("openpbr", parameter_values(*find_model("openpbr"), kOpenPbr), "gltf-specular");
+  EXPECT_EQ(value_of(from_openpbr, "ior"), 1.6);
+  EXPECT_EQ(value_of(from_openpbr, "specular"), 1.0);
+  EXPECT_EQ(value_of(from_openpbr, "specularColor", 1), 0.8);
+  EXPECT_EQ(value_of(from_openpbr, "specularColor", 2), 0.6);
+  const Material from_principled =
+      convert_material("principled", parameter_values(*find_model("principled"), kPrincipled), "gltf-specular");
+  EXPECT_NEAR(reflectance_of_ior(value_of(from_principled, "ior")), 0.08 * 0.6, 1e-15);
+  EXPECT_EQ(value_of(from_principled, "specular"), 1.0);
+
+  // Through the command: the gltf-specular fit with specular 0, exported to OpenPBR.
+  const std::string dir = test::fresh_dir("export-dielectric");
+  const std::string doc =
+      test::write_document(dir + "/clear.json", "/nowhere/clear.binary",
+                           {fit_of("gltf-specular", {"baseColor=0.8,0.5,0.25", "metallic=0.3", "roughness=0.45",
+                                                     "ior=3", "specular=0", "specularColor=1,0.9,0.7"})});
+  const auto run = test::run_cli("export " + doc + " -m gltf-specular -o " + dir + "/clear.mtlx");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  std::vector<std::string> warnings;
+  EXPECT_EQ(value_of(read_material(dir + "/clear.mtlx", "", warnings), "specular_ior"), 1.0);
+}
+
 // The number after `label` in `text` (NaN when absent).
 double number_after(const std::string& text, const std::string& label) {
   std::smatch match;

@@ -8,9 +8,11 @@
 //   Mitsuba 3 (.xml)        the `mitsuba-principled` fit as Mitsuba's `principled` BSDF (the model is
 //                           what that plugin evaluates; anisotropic 0 and sheen_tint 0.5 as held).
 // Any other renderer model's fit, or a ggx fit, can be converted instead: the materials share a
-// metallic-roughness core (base colour, metallic, roughness, dielectric IOR), which is carried over
-// with every other parameter at the target's default. A ggx fit's core is the metallic-roughness
-// match below. A converted material is not what was fitted, so its error on the original data is
+// metallic-roughness core (base colour, metallic, roughness, and the dielectric's IOR, specular
+// weight and tint), of which the target keeps all it can hold (gltf-specular all; openpbr the IOR
+// with the weight folded in, and the tint; principled and mitsuba-principled the dielectric F0 as
+// specular = F0/0.08; gltf neither), with every other parameter at the target's default. A ggx fit's core is the
+// metallic-roughness match below. A converted material is not what was fitted, so its error on the original data is
 // computed and reported beside the fit's own, with its difference from the fit on a fixed set of
 // directions. A target that nests the source model converts parameter by parameter instead: a
 // `principled` fit (Burley's formulas) becomes a `mitsuba-principled` material of the same values,
