@@ -183,6 +183,47 @@ std::vector<double> json_numbers(const nlohmann::json& j, size_t count, const st
   return values;
 }
 
+// KHR_materials_ior's ior = 0, which the extension allows: ((ior-1)/(ior+1))² = 1, so the
+// dielectric has F0 = min(specularColor, 1)·specular per channel and F90 = specular (a Fresnel
+// of 1 when both are 1). The gltf-specular model's ior lies in [1, 3] (((ior-1)/(ior+1))² up to
+// 1/4), so the material is read as one the model holds exactly, where there is one:
+//  - specular 0: no dielectric reflection at any ior: ior 1.5;
+//  - every min(specularColor, 1) ≤ 1/4: ior 3 and specularColor·4, the same F0 and F90;
+//  - specular 1 and specularColor ≥ 1: F = 1 for the dielectric and no diffuse under it, so the
+//    dielectric is the glTF metal of base colour 1 and (1-m)·1 + m·Schlick(b) = Schlick(m·b + 1-m):
+//    metallic 1 with base colour m·b + 1 - m;
+// otherwise no brdffit model holds it (openpbr's specular_ior is within [1, 3] too, principled's
+// F0 at most 0.08), and the file is refused naming the material.
+void read_fresnel_one(const Model& model, Material& material, double specular,
+                      const std::vector<double>& specular_color, const std::string& path, const std::string& where,
+                      std::vector<std::string>& warnings) {
+  Rgb<double> f0;  // before the specular weight
+  for (int c = 0; c < 3; ++c) f0[c] = std::min(std::max(specular_color[c], 0.0), 1.0);
+  const std::string what =
+      fmt::format("{}: {} has KHR_materials_ior ior 0 (a dielectric F0 of specularColor)", path, where);
+  if (specular == 0.0) {
+    set_parameter(model, material, "ior", {1.5}, path, warnings);
+    warnings.push_back(what + " with specularFactor 0, which reflects nothing at any ior: read exactly as ior 1.5");
+  } else if (f0.maxCoeff() <= 0.25) {
+    set_parameter(model, material, "ior", {3.0}, path, warnings);
+    set_parameter(model, material, "specularColor", {4 * f0[0], 4 * f0[1], 4 * f0[2]}, path, warnings);
+    warnings.push_back(what + ": read exactly as ior 3 with specularColorFactor times 4 (the same F0)");
+  } else if (specular == 1.0 && f0.minCoeff() == 1.0) {
+    const int base = model.offset_of("baseColor"), metallic = model.offset_of("metallic");
+    const double m = material.values[metallic];
+    for (int c = 0; c < 3; ++c) material.values[base + c] = m * material.values[base + c] + 1.0 - m;
+    material.values[metallic] = 1.0;
+    warnings.push_back(what + " with specular 1: a Fresnel of 1, read exactly as metallic 1 with baseColor " +
+                       "metallic·baseColor + 1 - metallic");
+  } else {
+    fail(
+        "{}: {} has KHR_materials_ior ior 0 (Fresnel 1): a dielectric F0 of {:.4g}, {:.4g}, {:.4g} and F90 {:.4g}, "
+        "which no brdffit model holds (their ior is within [1, 3]: F0 up to 0.25). It is held exactly with "
+        "specularFactor 0, with specularFactor 1 and specularColorFactor 1, or with specularColorFactor up to 0.25",
+        path, where, specular * f0[0], specular * f0[1], specular * f0[2], specular);
+  }
+}
+
 // One entry of a glTF file's "materials" (an object).
 Material read_gltf_material(const nlohmann::json& m, int index, const std::string& path,
                             std::vector<std::string>& warnings) {
@@ -204,17 +245,19 @@ Material read_gltf_material(const nlohmann::json& m, int index, const std::strin
                 json_numbers(pbr.value("roughnessFactor", nlohmann::json(1.0)), 1, where + " roughnessFactor", path),
                 path, warnings);
   if (has_specular) {
-    const nlohmann::json ior = extensions.value("KHR_materials_ior", nlohmann::json::object());
+    const nlohmann::json ior_extension = extensions.value("KHR_materials_ior", nlohmann::json::object());
     const nlohmann::json spec = extensions.value("KHR_materials_specular", nlohmann::json::object());
-    set_parameter(model, material, "ior", json_numbers(ior.value("ior", nlohmann::json(1.5)), 1, where + " ior", path),
-                  path, warnings);
-    set_parameter(model, material, "specular",
-                  json_numbers(spec.value("specularFactor", nlohmann::json(1.0)), 1, where + " specularFactor", path),
-                  path, warnings);
-    set_parameter(model, material, "specularColor",
-                  json_numbers(spec.value("specularColorFactor", nlohmann::json{1.0, 1.0, 1.0}), 3,
-                               where + " specularColorFactor", path),
-                  path, warnings);
+    const double ior = json_numbers(ior_extension.value("ior", nlohmann::json(1.5)), 1, where + " ior", path)[0];
+    const double specular =
+        json_numbers(spec.value("specularFactor", nlohmann::json(1.0)), 1, where + " specularFactor", path)[0];
+    const std::vector<double> specular_color = json_numbers(
+        spec.value("specularColorFactor", nlohmann::json{1.0, 1.0, 1.0}), 3, where + " specularColorFactor", path);
+    set_parameter(model, material, "specular", {specular}, path, warnings);
+    set_parameter(model, material, "specularColor", specular_color, path, warnings);
+    if (ior == 0.0)
+      read_fresnel_one(model, material, specular, specular_color, path, where, warnings);
+    else
+      set_parameter(model, material, "ior", {ior}, path, warnings);
   }
   for (const char* texture : {"baseColorTexture", "metallicRoughnessTexture"})
     if (pbr.contains(texture))
@@ -249,6 +292,36 @@ std::vector<Material> read_gltf(const std::string& path, std::vector<std::string
     ++index;
   }
   return materials;
+}
+
+// OpenPBR's base_weight w (MaterialX's open_pbr_surface graph): the metal's F0 is w·base_color and
+// the diffuse is w·EON(base_color, σ). Folded into base_color, the metal and EON's single
+// scattering (linear in ρ) are exact, but EON's multiple scattering ρ_ms = ρ²Ē/(1 - ρ(1-Ē)) is not
+// linear in ρ: exact only for σ = 0 (Lambert), w = 0 or 1, or metalness 1. Otherwise the warning
+// gives the error in the diffuse's mean albedo, ρĒ/(1 - ρ(1-Ē)) for EON (single and multiple
+// scattering), hence folded/true = (1 - ρ(1-Ē))/(1 - wρ(1-Ē)), Ē the mean albedo of EON's
+// single scattering (models/openpbr.h).
+void fold_base_weight(const Model& model, Material& material, double w, const std::string& path,
+                      std::vector<std::string>& warnings) {
+  const int base = model.offset_of("base_color");
+  const double sigma = material.values[model.offset_of("base_diffuse_roughness")],
+               metalness = material.values[model.offset_of("base_metalness")];
+  double worst = 0.0;  // relative error of the folded diffuse's mean albedo, the largest channel's
+  if (sigma > 0.0 && w > 0.0 && w < 1.0 && metalness < 1.0) {
+    const double on_a = 1.0 / (1.0 + (0.5 - 2.0 / (3.0 * kPi)) * sigma);
+    const double mean_single = on_a * (1.0 + (2.0 / 3.0 - 28.0 / (15.0 * kPi)) * sigma);
+    for (int c = 0; c < 3; ++c) {
+      const double rho = material.values[base + c], loss = rho * (1.0 - mean_single);
+      const double error = (1.0 - loss) / (1.0 - w * loss) - 1.0;
+      if (std::abs(error) > std::abs(worst)) worst = error;
+    }
+  }
+  for (int c = 0; c < 3; ++c) material.values[base + c] *= w;
+  if (worst != 0.0)
+    warnings.push_back(fmt::format(
+        "{}: base_weight {} of '{}' is folded into base_color, which is not exact with base_diffuse_roughness {} "
+        "(EON's multiple scattering is not linear in the colour): the diffuse's mean albedo is {:+.3g} % off",
+        path, w, material.name, sigma, 100.0 * worst));
 }
 
 std::vector<Material> read_materialx(const std::string& path, std::vector<std::string>& warnings) {
@@ -293,9 +366,7 @@ std::vector<Material> read_materialx(const std::string& path, std::vector<std::s
         warnings.push_back(fmt::format("{}: {} = {} of '{}' is outside the opaque base brdffit's openpbr model has",
                                        path, name, value[0], material.name));
     }
-    // base_weight multiplies base_color wherever it appears: folded in exactly.
-    const int base = model.offset_of("base_color");
-    for (int c = 0; c < 3; ++c) material.values[base + c] *= std::clamp(base_weight, 0.0, 1.0);
+    fold_base_weight(model, material, std::clamp(base_weight, 0.0, 1.0), path, warnings);
     if (specular_weight != 1.0)
       warnings.push_back(fmt::format("{}: specular_weight {} of '{}' is held at 1 by the openpbr model: not scored",
                                      path, specular_weight, material.name));
@@ -321,6 +392,8 @@ std::vector<Material> read_mitsuba(const std::string& path, std::vector<std::str
         {"sheen", {0.0}},      {"clearcoat", {0.0}}, {"clearcoat_gloss", {0.0}}};
     for (const auto& [name, value] : defaults) set_parameter(model, material, name, value, path, warnings);
     double sheen_tint = 0.0;
+    std::optional<double> eta;
+    bool has_specular = false;
     for (const int k : elements[i].children) {
       const std::string name = attribute(elements[k], "name");
       if (elements[k].tag == "texture") {
@@ -329,13 +402,31 @@ std::vector<Material> read_mitsuba(const std::string& path, std::vector<std::str
       }
       if (elements[k].tag != "rgb" && elements[k].tag != "float") continue;
       const std::vector<double> value = parse_numbers(attribute(elements[k], "value"), name, path);
+      has_specular = has_specular || name == "specular";
       if (model.find_parameter(name))
         set_parameter(model, material, name, value, path, warnings);
+      else if (name == "eta")
+        eta = value[0];
       else if (name == "sheen_tint")
         sheen_tint = value[0];
       else if (value[0] != 0.0)
         warnings.push_back(fmt::format("{}: {} = {} of '{}' is not in brdffit's mitsuba-principled model (held at 0)",
                                        path, name, value[0], material.name));
+    }
+    if (eta) {
+      // The plugin takes eta or specular, never both, and derives one from the other:
+      // η = 2/(1 - √(0.08·specular)) - 1, so specular = ((η-1)/(η+1))²/0.08, exactly.
+      if (has_specular)
+        fail("{}: '{}' gives both eta and specular, which Mitsuba refuses (one is derived from the other)", path,
+             material.name);
+      if (*eta <= 0.0) fail("{}: eta of '{}' is {}: an index of refraction is positive", path, material.name, *eta);
+      const double r = (*eta - 1.0) / (*eta + 1.0);
+      if (*eta < 1.0)
+        warnings.push_back(fmt::format(
+            "{}: eta {} of '{}' is below 1: read as the specular of 1/eta (the same F0), without the total internal "
+            "reflection the plugin's Fresnel has beyond the critical angle",
+            path, *eta, material.name));
+      set_parameter(model, material, "specular", {r * r / 0.08}, path, warnings);
     }
     if (sheen_tint != 0.5 && material.values[model.offset_of("sheen")] > 0.0)
       warnings.push_back(fmt::format("{}: sheen_tint {} of '{}' is held at 0.5 by the mitsuba-principled model", path,

@@ -514,6 +514,185 @@ TEST(ExportTools, KhronosValidatorFindsNothing) {
   }
 }
 
+// Directions over the hemisphere (l and v in different planes), for comparing two BRDFs.
+std::vector<std::pair<Vec3, Vec3>> direction_pairs() {
+  std::vector<std::pair<Vec3, Vec3>> pairs;
+  const auto at = [](double theta, double phi) {
+    return Vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+  };
+  for (const double theta_l : {0.0, 0.3, 0.8, 1.2, 1.5})
+    for (const double theta_v : {0.1, 0.6, 1.0, 1.45})
+      for (const double phi : {0.0, 1.0, 2.5, 3.14}) pairs.emplace_back(at(theta_l, 0.4), at(theta_v, 0.4 + phi));
+  return pairs;
+}
+
+// A glTF file of one gltf-specular material, with KHR_materials_ior's ior set to `ior`.
+std::string write_gltf_with_ior(const std::string& path, const std::vector<double>& values, double ior) {
+  nlohmann::json gltf = nlohmann::json::parse(gltf_document({"m", "gltf-specular", values}, nlohmann::json::object()));
+  gltf["materials"][0]["extensions"]["KHR_materials_ior"]["ior"] = ior;
+  write_file_atomic(path, gltf.dump());
+  return path;
+}
+
+TEST(MaterialImport, GltfIorZeroIsFresnelOneReadExactlyOrRefused) {
+  // KHR_materials_ior: ior 0 is valid, ((0-1)/(0+1))² = 1, so dielectric_f0 = min(specularColor, 1)·specular
+  // and dielectric_f90 = specular. Each file below is read as a material whose BRDF is that one,
+  // evaluated here from the extension's formulas with the file's own factors.
+  const std::string dir = test::fresh_dir("import-ior-zero");
+  const Model& model = *find_model("gltf-specular");
+  struct Case {
+    std::string name;
+    std::vector<std::string> factors;  // as written, with ior 0
+    std::string read_as;               // the warning that says how it was read
+  };
+  const std::vector<Case> cases = {
+      {"no reflection", {"specular=0", "specularColor=1,0.9,0.7"}, "read exactly as ior 1.5"},
+      {"dark tint", {"specular=0.7", "specularColor=0.2,0.1,0.05"}, "read exactly as ior 3"},
+      {"mirror", {"specular=1", "specularColor=1,1,1"}, "read exactly as metallic 1"}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    std::vector<std::string> assignments = {"baseColor=0.8,0.5,0.25", "metallic=0.3", "roughness=0.45"};
+    assignments.insert(assignments.end(), c.factors.begin(), c.factors.end());
+    const std::vector<double> written = parameter_values(model, assignments);
+    std::vector<std::string> warnings;
+    const Material read = read_material(write_gltf_with_ior(dir + "/m.gltf", written, 0.0), "", warnings);
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_NE(warnings[0].find("KHR_materials_ior ior 0"), std::string::npos) << warnings[0];
+    EXPECT_NE(warnings[0].find(c.read_as), std::string::npos) << warnings[0];
+    EXPECT_GE(value_of(read, "ior"), 1.0);  // within the model, not clamped from 0 to 1 ...
+    const double specular = written[model.offset_of("specular")];
+    Rgb<double> f0;
+    for (int k = 0; k < 3; ++k) f0[k] = std::min(written[model.offset_of("specularColor") + k], 1.0) * specular;
+    for (const auto& [l, v] : direction_pairs()) {  // ... but the same BRDF
+      const Rgb<double> expected =
+          models::gltf_metallic_roughness(&written[model.offset_of("baseColor")], written[model.offset_of("metallic")],
+                                          written[model.offset_of("roughness")], f0, specular, l, v);
+      const Rgb<double> got = *model.brdf(read.values.data(), l, v);
+      EXPECT_TRUE(got.isApprox(expected, 1e-12)) << got.transpose() << " vs " << expected.transpose();
+    }
+  }
+  // The mirror case in numbers: metallic 1, baseColor 0.3·b + 0.7.
+  std::vector<std::string> warnings;
+  const Material mirror = read_material(dir + "/m.gltf", "", warnings);
+  EXPECT_EQ(value_of(mirror, "metallic"), 1.0);
+  EXPECT_NEAR(value_of(mirror, "baseColor", 2), 0.3 * 0.25 + 0.7, 1e-15);
+
+  // A partial Fresnel of 1 (F0 = F90 = 0.5): no model holds it; refused, not clamped.
+  const std::string partial = write_gltf_with_ior(
+      dir + "/partial.gltf",
+      parameter_values(model, {"baseColor=0.5", "metallic=0", "roughness=0.5", "specular=0.5", "specularColor=1"}),
+      0.0);
+  try {
+    read_material(partial, "", warnings);
+    ADD_FAILURE() << "read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("ior 0 (Fresnel 1): a dielectric F0 of 0.5, 0.5, 0.5 and F90 0.5, which no "
+                                         "brdffit model holds"),
+              std::string::npos)
+        << e.what();
+  }
+  // Any other ior below 1 is outside the extension's range: clamped to 1, with a warning.
+  warnings.clear();
+  const Material low = read_material(
+      write_gltf_with_ior(dir + "/low.gltf", parameter_values(model, {"specular=0.5"}), 0.5), "", warnings);
+  EXPECT_EQ(value_of(low, "ior"), 1.0);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("ior of 'm' is 0.5, outside"), std::string::npos) << warnings[0];
+}
+
+// A Mitsuba scene of one principled BSDF with these children.
+std::string write_mitsuba(const std::string& path, const std::string& children) {
+  write_file_atomic(
+      path, "<scene version=\"3.0.0\">\n  <bsdf type=\"principled\" id=\"m\">\n" + children + "  </bsdf>\n</scene>\n");
+  return path;
+}
+
+TEST(MaterialImport, MitsubaEtaIsReadAsTheSpecularOfTheSameIor) {
+  // The plugin's η = 2/(1 - √(0.08·specular)) - 1 (models/mitsuba_principled.h): the specular read
+  // from eta must give back the same η.
+  const std::string dir = test::fresh_dir("import-mitsuba-eta");
+  const auto eta_of = [](double specular) { return 2.0 / (1.0 - std::sqrt(0.08 * specular)) - 1.0; };
+  std::vector<std::string> warnings;
+  const Material water =
+      read_material(write_mitsuba(dir + "/water.xml", "    <float name=\"eta\" value=\"1.33\"/>\n"), "", warnings);
+  EXPECT_TRUE(warnings.empty()) << warnings.front();
+  EXPECT_NEAR(eta_of(value_of(water, "specular")), 1.33, 1e-12);
+  EXPECT_NEAR(value_of(water, "specular"), reflectance_of_ior(1.33) / 0.08, 1e-15);
+  // η 2 reflects 11 % at normal incidence, above the model's specular 1 (F0 8 %): clamped, said.
+  const Material dense =
+      read_material(write_mitsuba(dir + "/dense.xml", "    <float name=\"eta\" value=\"2\"/>\n"), "", warnings);
+  EXPECT_EQ(value_of(dense, "specular"), 1.0);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("specular of 'm' is 1.38"), std::string::npos) << warnings[0];
+  // The plugin refuses both; so does the reader.
+  try {
+    read_material(
+        write_mitsuba(dir + "/both.xml",
+                      "    <float name=\"eta\" value=\"1.5\"/>\n    <float name=\"specular\" value=\"0.5\"/>\n"),
+        "", warnings);
+    ADD_FAILURE() << "read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("'m' gives both eta and specular"), std::string::npos) << e.what();
+  }
+}
+
+// The cosine-weighted mean albedo of an openpbr material over the hemisphere, by the midpoint rule
+// in cosθ and φ: (1/π)∫∫ f cosθl cosθv dωl dωv.
+double mean_albedo(const std::vector<double>& values, int channel) {
+  const Model& model = *find_model("openpbr");
+  constexpr int kMu = 96, kPhi = 48;  // φ over [0, π] (f is even in φ), counted twice
+  double sum = 0.0;
+  for (int i = 0; i < kMu; ++i) {
+    const double mu_v = (i + 0.5) / kMu;
+    const Vec3 v(std::sqrt(1 - mu_v * mu_v), 0.0, mu_v);
+    for (int j = 0; j < kMu; ++j) {
+      const double mu_l = (j + 0.5) / kMu, s = std::sqrt(1 - mu_l * mu_l);
+      for (int k = 0; k < kPhi; ++k) {
+        const double phi = (k + 0.5) * kPi / kPhi;
+        sum += model.shade(values.data(), Vec3(s * std::cos(phi), s * std::sin(phi), mu_l), v)[channel] * mu_v;
+      }
+    }
+  }
+  // dωl = dμl dφ (φ's step π/kPhi, twice), dωv = dμv dφv (2π: isotropic); shade carries cosθl.
+  return sum * (1.0 / kMu) * (2.0 * kPi / kPhi) * (1.0 / kMu) * 2.0 * kPi / kPi;
+}
+
+TEST(MaterialImport, MtlxBaseWeightIsFoldedExactlyOrWithItsError) {
+  const std::string dir = test::fresh_dir("import-base-weight");
+  const auto write_mtlx = [&](const std::string& name, double diffuse_roughness) {
+    write_file_atomic(
+        dir + "/" + name + ".mtlx",
+        fmt::format("<materialx version=\"1.39\">\n  <open_pbr_surface name=\"m\" type=\"surfaceshader\">\n"
+                    "    <input name=\"base_weight\" type=\"float\" value=\"0.5\" />\n"
+                    "    <input name=\"base_color\" type=\"color3\" value=\"0.8, 0.6, 0.4\" />\n"
+                    "    <input name=\"base_diffuse_roughness\" type=\"float\" value=\"{}\" />\n"
+                    "    <input name=\"specular_ior\" type=\"float\" value=\"1\" />\n"
+                    "  </open_pbr_surface>\n</materialx>\n",
+                    diffuse_roughness));
+    return dir + "/" + name + ".mtlx";
+  };
+  // Diffuse roughness 0: EON is Lambert, linear in the colour; the fold is exact and silent.
+  std::vector<std::string> warnings;
+  const Material lambert = read_material(write_mtlx("lambert", 0.0), "", warnings);
+  EXPECT_TRUE(warnings.empty()) << warnings.front();
+  EXPECT_EQ(value_of(lambert, "base_color", 0), 0.4);
+  EXPECT_EQ(value_of(lambert, "base_color", 2), 0.2);
+  // Diffuse roughness 1: EON's multiple scattering is not linear in ρ, so 0.5·EON(0.8) is not
+  // EON(0.4). With specular_ior 1 the material is EON alone (no dielectric reflection), and the
+  // warning's error is the folded material's mean albedo against half the unfolded one's.
+  const Material rough = read_material(write_mtlx("rough", 1.0), "", warnings);
+  EXPECT_EQ(value_of(rough, "base_color", 0), 0.4);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("base_weight 0.5 of 'm' is folded into base_color, which is not exact"), std::string::npos)
+      << warnings[0];
+  const double stated = number_after(warnings[0], "mean albedo is");
+  std::vector<double> unfolded = rough.values;
+  unfolded[find_model("openpbr")->offset_of("base_color")] = 0.8;  // the red channel: the largest error
+  const double integrated = mean_albedo(rough.values, 0) / (0.5 * mean_albedo(unfolded, 0)) - 1.0;
+  EXPECT_LT(integrated, -0.01);  // a real darkening, larger than the numbers' precision
+  EXPECT_NEAR(stated / 100.0, integrated, 2e-4) << warnings[0];
+}
+
 TEST(ScoreCli, ScoresAMaterialFromAnAsset) {
   const std::string dir = test::fresh_dir("score-material");
   const std::vector<std::string> params = {"baseColor=0.7,0.5,0.3", "metallic=0.2", "roughness=0.4"};
