@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <random>
 
 #include "brdffit/error.h"
@@ -288,14 +289,26 @@ const char* material_format_name(MaterialFormat format) {
 }
 
 MaterialFormat material_format(const std::string& name, const std::string& path) {
-  for (MaterialFormat f : {MaterialFormat::Gltf, MaterialFormat::OpenPbr, MaterialFormat::Mitsuba})
-    if (name == material_format_name(f)) return f;
-  if (!name.empty()) fail("--format: gltf, openpbr or mitsuba, not '{}'", name);
   const std::string extension = std::filesystem::path(path).extension().string();
-  if (extension == ".gltf") return MaterialFormat::Gltf;
-  if (extension == ".mtlx") return MaterialFormat::OpenPbr;
-  if (extension == ".xml") return MaterialFormat::Mitsuba;
-  fail("--format: gltf, openpbr or mitsuba (not implied by the name {}: .gltf, .mtlx or .xml)", path);
+  std::optional<MaterialFormat> implied;
+  if (extension == ".gltf") implied = MaterialFormat::Gltf;
+  if (extension == ".mtlx") implied = MaterialFormat::OpenPbr;
+  if (extension == ".xml") implied = MaterialFormat::Mitsuba;
+  if (name.empty()) {
+    if (implied) return *implied;
+    fail("--format: gltf, openpbr or mitsuba (not implied by the name {}: .gltf, .mtlx or .xml)", path);
+  }
+  for (const MaterialFormat f : {MaterialFormat::Gltf, MaterialFormat::OpenPbr, MaterialFormat::Mitsuba}) {
+    if (name != material_format_name(f)) continue;
+    // A file named for one format holding another would be misread by every tool that opens it.
+    if (implied && *implied != f)
+      fail(
+          "--format {} conflicts with the output {}, whose extension {} is the {} format's: leave out --format, or "
+          "name the output for {}",
+          name, path, extension, material_format_name(*implied), name);
+    return f;
+  }
+  fail("--format: gltf, openpbr or mitsuba, not '{}'", name);
 }
 
 std::vector<std::string> native_models(MaterialFormat format) {
@@ -369,7 +382,7 @@ MaterialExport export_material(const FitDocument& document, const ExportRequest&
       if (!fit) fit = find_result(document.results, model);
     if (!fit)
       fail(
-          "{}: has no {} fit; fit with --models {} to export it unchanged, or convert another fit with --model "
+          "{}: has no {} fit; fit with -m {} to export it unchanged, or convert another fit with -m "
           "(ggx, gltf, gltf-specular, openpbr, principled, mitsuba-principled)",
           document.path, natives.front(), natives.front());
   } else {

@@ -289,7 +289,7 @@ TEST(ExportCli, PrincipledToMitsubaIsAConversionWithItsError) {
   EXPECT_NEAR(material.values[mitsuba.offset_of("base_color") + 2], 0.1, 5e-7);
   // With no principled conversion asked for, the document has no mitsuba-principled fit to export.
   test::expect_cli_errors({{"export " + doc + " --out " + dir + "/x.xml",
-                            "coated.json: has no mitsuba-principled fit; fit with --models mitsuba-principled"}},
+                            "coated.json: has no mitsuba-principled fit; fit with -m mitsuba-principled"}},
                           dir + "/x.xml");
 }
 
@@ -307,6 +307,35 @@ TEST(ExportCli, ABareMetalIsTheSameInBurleysAndMitsubasFormulas) {
   EXPECT_NE(run.output.find("converted from the principled fit parameter by parameter"), std::string::npos)
       << run.output;
   EXPECT_LT(number_after(run.output, "on fixed directions: cosine"), 1e-12) << run.output;
+}
+
+TEST(ExportCli, TheOutputsExtensionPicksTheFormatAndAConflictingFormatIsAUsageError) {
+  const std::string dir = test::fresh_dir("export-extension");
+  const std::string doc =
+      test::write_document(dir + "/gold.json", "/data/gold.binary",
+                           {fit_of("gltf", {"baseColor=0.9,0.6,0.3", "metallic=1", "roughness=0.3"}),
+                            fit_of("openpbr", kOpenPbr), fit_of("mitsuba-principled", kMitsubaPrincipled)});
+  // From the extension alone: each file is its format's document of its format's own fit.
+  for (const auto& [out, opening, model] :
+       {std::tuple{"/m.mtlx", "<materialx", "openpbr"}, std::tuple{"/m.xml", "<scene", "mitsuba-principled"},
+        std::tuple{"/m.gltf", "{", "gltf"}}) {
+    const auto run = test::run_cli("export " + doc + " -o " + dir + out);
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    EXPECT_NE(run.output.find(std::string("the ") + model + " fit unchanged"), std::string::npos) << run.output;
+    EXPECT_NE(read_file(dir + out).find(opening), std::string::npos) << out;
+  }
+  // An explicit --format that agrees, or names an output without a known extension, is taken.
+  EXPECT_EQ(test::run_cli("export " + doc + " --format openpbr -o " + dir + "/agree.mtlx").exit_code, 0);
+  const auto named = test::run_cli("export " + doc + " --format mitsuba -o " + dir + "/bsdf.include");
+  ASSERT_EQ(named.exit_code, 0) << named.output;
+  EXPECT_NE(read_file(dir + "/bsdf.include").find("<bsdf type=\"principled\""), std::string::npos);
+  // One that contradicts the extension is a usage error, and nothing is written.
+  test::expect_cli_errors(
+      {{"export " + doc + " --format gltf -o " + dir + "/x.mtlx",
+        "--format gltf conflicts with the output " + dir + "/x.mtlx, whose extension .mtlx is the openpbr format's", 2},
+       {"export " + doc + " --format openpbr -o " + dir + "/x.mtlx.xml", "extension .xml is the mitsuba format's", 2}},
+      dir + "/x.mtlx");
+  EXPECT_FALSE(std::filesystem::exists(dir + "/x.mtlx.xml"));
 }
 
 TEST(ExportCli, RefusesPoorOrFailedVerdictsWithoutForce) {
@@ -330,7 +359,8 @@ TEST(ExportCli, RefusesPoorOrFailedVerdictsWithoutForce) {
   const std::string plain = test::write_document(dir + "/plain.json", "/data/plain.binary", {fit_of("lambert", {})});
   test::expect_cli_errors(
       {{"export " + failed_doc + " --force --out " + dir + "/x.mtlx", "failed.json: the openpbr fit failed (diverged)"},
-       {"export " + plain + " --out " + dir + "/x.mtlx", "plain.json: has no openpbr fit; fit with --models openpbr"},
+       {"export " + plain + " --out " + dir + "/x.mtlx",
+        "plain.json: has no openpbr fit; fit with -m openpbr to export it unchanged, or convert another fit with -m"},
        {"export " + plain + " -m lambert --out " + dir + "/x.mtlx", "no conversion from the lambert model"},
        {"export " + plain + " -m ward --out " + dir + "/x.mtlx", "plain.json: has no ward fit"},
        {"export " + plain + " --out " + dir + "/x.txt", "--format: gltf, openpbr or mitsuba"},

@@ -51,7 +51,8 @@ MetallicRoughness metallic_roughness(const Rgb<double>& albedo, const Rgb<double
 enum class MaterialFormat { Gltf, OpenPbr, Mitsuba };
 const char* material_format_name(MaterialFormat format);
 // The format named (gltf, openpbr, mitsuba), or when `name` is empty the one implied by the
-// path's extension (.gltf, .mtlx, .xml); throws Error otherwise.
+// path's extension (.gltf, .mtlx, .xml); throws Error otherwise, and when the name and the
+// extension imply different formats.
 MaterialFormat material_format(const std::string& name, const std::string& path);
 // The models a format writes unchanged (gltf: gltf and gltf-specular).
 std::vector<std::string> native_models(MaterialFormat format);
