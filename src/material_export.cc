@@ -374,6 +374,23 @@ SampleSet fixed_directions(const Model& model, const std::vector<double>& values
 
 }  // namespace
 
+namespace {
+
+// The model of `format` a fit of another model becomes: the format's first, except for glTF when
+// the fit's dielectric is not the core's (IOR 1.5, weight 1, no tint), which only gltf-specular's
+// KHR_materials_ior and KHR_materials_specular hold.
+std::string conversion_target(MaterialFormat format, const std::string& source_model,
+                              const std::vector<double>& values) {
+  const std::vector<std::string> natives = native_models(format);
+  if (format != MaterialFormat::Gltf) return natives.front();
+  const Core core = core_of(source_model, values);
+  const bool core_dielectric =
+      std::abs(core.ior - 1.5) < 1e-9 && core.specular_weight == 1.0 && core.specular_color == Rgb<double>::Ones();
+  return core_dielectric ? "gltf" : "gltf-specular";
+}
+
+}  // namespace
+
 MaterialExport export_material(const FitDocument& document, const ExportRequest& request) {
   const std::vector<std::string> natives = native_models(request.format);
   const FitResult* fit = nullptr;
@@ -408,8 +425,9 @@ MaterialExport export_material(const FitDocument& document, const ExportRequest&
   out.fit_error = fit->metrics.get(metric);
 
   out.converted = std::find(natives.begin(), natives.end(), fit->model) == natives.end();
-  out.material =
-      out.converted ? convert_material(fit->model, values, natives.front()) : Material{"", fit->model, values};
+  out.material = out.converted
+                     ? convert_material(fit->model, values, conversion_target(request.format, fit->model, values))
+                     : Material{"", fit->model, values};
   out.material.name = material_name(document);
   if (out.converted) {
     out.converted_vs_fit = evaluate_metrics(*find_model(out.material.model), out.material.values,

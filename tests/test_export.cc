@@ -252,6 +252,23 @@ TEST(ExportConversion, EveryTargetKeepsTheDielectricReflectionItCanHold) {
   ASSERT_EQ(run.exit_code, 0) << run.output;
   std::vector<std::string> warnings;
   EXPECT_EQ(value_of(read_material(dir + "/clear.mtlx", "", warnings), "specular_ior"), 1.0);
+
+  // Into glTF: an openpbr fit whose ior and tint are not the core's becomes gltf-specular (its
+  // KHR_materials_ior and KHR_materials_specular hold them); one with the core's stays core glTF.
+  const std::string openpbr_doc = test::write_document(
+      dir + "/pbr.json", "/nowhere/pbr.binary",
+      {fit_of("openpbr", kOpenPbr), fit_of("ggx", {"albedo=0.5", "roughness=0.3", "f0=0.04"})});  // ior 1.5: core glTF
+  const auto tinted = test::run_cli("export " + openpbr_doc + " -m openpbr -o " + dir + "/tinted.gltf");
+  ASSERT_EQ(tinted.exit_code, 0) << tinted.output;
+  EXPECT_NE(tinted.output.find("the gltf-specular material"), std::string::npos) << tinted.output;
+  const nlohmann::json gltf = nlohmann::json::parse(read_file(dir + "/tinted.gltf"));
+  EXPECT_EQ(gltf["materials"][0]["extensions"]["KHR_materials_ior"]["ior"], 1.6);
+  EXPECT_EQ(gltf["materials"][0]["extensions"]["KHR_materials_specular"]["specularColorFactor"],
+            nlohmann::json({1.0, 0.8, 0.6}));
+  const auto plain = test::run_cli("export " + openpbr_doc + " -m ggx -o " + dir + "/plain.gltf");
+  ASSERT_EQ(plain.exit_code, 0) << plain.output;
+  EXPECT_NE(plain.output.find("the gltf material"), std::string::npos) << plain.output;
+  EXPECT_FALSE(nlohmann::json::parse(read_file(dir + "/plain.gltf")).contains("extensionsUsed"));
 }
 
 // The number after `label` in `text` (NaN when absent).

@@ -11,7 +11,8 @@
 // metallic-roughness core (base colour, metallic, roughness, and the dielectric's IOR, specular
 // weight and tint), of which the target keeps all it can hold (gltf-specular all; openpbr the IOR
 // with the weight folded in, and the tint; principled and mitsuba-principled the dielectric F0 as
-// specular = F0/0.08; gltf neither), with every other parameter at the target's default. A ggx
+// specular = F0/0.08; gltf neither: into glTF, a fit whose dielectric is not the core's IOR 1.5,
+// weight 1 and no tint becomes gltf-specular), with every other parameter at the target's default. A ggx
 // fit's core is the metallic-roughness match below. A converted material is not what was fitted,
 // so its error on the original data is computed and reported beside the fit's own, with its
 // difference from the fit on a fixed set of directions. A target that nests the source model converts parameter by
