@@ -211,7 +211,8 @@ void read_fresnel_one(const Model& model, Material& material, double specular,
   } else if (specular == 1.0 && f0.minCoeff() == 1.0) {
     const int base = model.offset_of("baseColor"), metallic = model.offset_of("metallic");
     const double m = material.values[metallic];
-    for (int c = 0; c < 3; ++c) material.values[base + c] = m * material.values[base + c] + 1.0 - m;
+    // Written 1 - m(1 - b): within [0, 1] in floating point by construction, as the model requires.
+    for (int c = 0; c < 3; ++c) material.values[base + c] = 1.0 - m * (1.0 - material.values[base + c]);
     material.values[metallic] = 1.0;
     warnings.push_back(what + " with specular 1: a Fresnel of 1, read exactly as metallic 1 with baseColor " +
                        "metallic·baseColor + 1 - metallic");
@@ -254,8 +255,9 @@ Material read_gltf_material(const nlohmann::json& m, int index, const std::strin
         spec.value("specularColorFactor", nlohmann::json{1.0, 1.0, 1.0}), 3, where + " specularColorFactor", path);
     set_parameter(model, material, "specular", {specular}, path, warnings);
     set_parameter(model, material, "specularColor", specular_color, path, warnings);
-    if (ior == 0.0)
-      read_fresnel_one(model, material, specular, specular_color, path, where, warnings);
+    if (ior == 0.0)  // with the specular weight as read into the model's [0, 1]
+      read_fresnel_one(model, material, material.values[model.offset_of("specular")], specular_color, path, where,
+                       warnings);
     else
       set_parameter(model, material, "ior", {ior}, path, warnings);
   }
