@@ -45,7 +45,7 @@ void print_models(bool json) {
       say("    {:<14} {:<5} [{:g}, {:g}] default {:g}  {}\n", p.name,
           p.channels == 3 ? "rgb" : (p.integer ? "int" : ""), p.lower, p.upper, p.default_value, p.meaning);
   }
-  say("\nTwo specular lobes over one Lambert base: FIRST+SECOND (e.g. --models ggx+ggx, cook-torrance+cook-torrance,\n"
+  say("\nTwo specular lobes over one Lambert base: FIRST+SECOND (e.g. -m ggx+ggx, cook-torrance+cook-torrance,\n"
       "ggx+beckmann) with any two models above that are a lobe over albedo/π. The second lobe's parameters\n"
       "take the suffix _2 (roughness_2); a weight_2 scales it when its own scale cannot switch it off.\n"
       "`brdffit eval -m ggx+ggx --param roughness_2=0.1 ...` works as for any model. 'all' is the list above.\n");
