@@ -473,9 +473,9 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
     const LeastSquares on_subsample(model, small, options.metric, channels, loss.get(), options);
     // Every start is screened with a few iterations, and only the best 2·options.starts
     // continue. On the heavy models every start used to run its 50 iterations, most of their fit;
-    // on the MERL proxies the start that finishes best was among the six best after 8 iterations
-    // for sgd, openpbr and principled (the first for sgd; for principled on red-fabric the one
-    // ranked 11th finished 0.3 % better than the 5th, docs/performance.md).
+    // on the MERL proxies the start that finishes best was the first after 8 iterations for sgd
+    // and among the six first elsewhere but twice, where one ranked lower finished 0.3 %
+    // (principled, red-fabric) and 0.08 % (openpbr, gold-metallic-paint) better (docs/performance.md).
     constexpr int kScreenIterations = 8;
     const int refine_iterations = small_is_all ? options.max_iterations : 50;
     std::vector<Refinement> screened;
