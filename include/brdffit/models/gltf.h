@@ -25,6 +25,20 @@
 
 namespace brdffit::models {
 
+// Appendix B's specular_brdf without its Fresnel, V·D (GGX with α = roughness², height-correlated
+// Smith V), for l and v above the surface; KHR_materials_clearcoat's lobe is this one.
+template <class T>
+T gltf_specular_vd(const T& roughness, const Vec3& l, const Vec3& v) {
+  using std::sqrt;
+  const double nl = l.z(), nv = v.z(), nh = half_vector(l, v).z();
+  const T alpha = roughness * roughness, alpha2 = alpha * alpha;
+  const T denom = nh * nh * (alpha2 - 1.0) + 1.0;
+  const T d = nh > 0.0 ? T(alpha2 / (kPi * denom * denom)) : T(0.0);
+  const T vis =
+      1.0 / (2.0 * (nv * sqrt(alpha2 + (1.0 - alpha2) * (nl * nl)) + nl * sqrt(alpha2 + (1.0 - alpha2) * (nv * nv))));
+  return vis * d;
+}
+
 // The metallic-roughness BRDF with the dielectric Fresnel of KHR_materials_specular
 // (extensions/2.0/Khronos/KHR_materials_specular): per channel
 //   F_d = f0 + (f90 - f0)(1 - |v·h|)^5,   dielectric = F_d·V·D + (1 - max(F_d))·baseColor/π,
@@ -32,19 +46,12 @@ namespace brdffit::models {
 template <class T>
 Rgb<T> gltf_metallic_roughness(const T* base_color, const T& metallic, const T& roughness, const Rgb<T>& dielectric_f0,
                                const T& dielectric_f90, const Vec3& l, const Vec3& v) {
-  using std::sqrt;
   const double nl = l.z(), nv = v.z();
   Rgb<T> f(T(0.0), T(0.0), T(0.0));
   if (nl <= 0.0 || nv <= 0.0) return f;
-  const Vec3 h = half_vector(l, v);
-  const double nh = h.z(), vh = std::abs(v.dot(h));
+  const double vh = std::abs(v.dot(half_vector(l, v)));
   const double w = std::pow(1.0 - vh, 5);
-  const T alpha = roughness * roughness, alpha2 = alpha * alpha;
-  const T denom = nh * nh * (alpha2 - 1.0) + 1.0;
-  const T d = nh > 0.0 ? T(alpha2 / (kPi * denom * denom)) : T(0.0);
-  const T vis =
-      1.0 / (2.0 * (nv * sqrt(alpha2 + (1.0 - alpha2) * (nl * nl)) + nl * sqrt(alpha2 + (1.0 - alpha2) * (nv * nv))));
-  const T specular = vis * d;
+  const T specular = gltf_specular_vd(roughness, l, v);
   Rgb<T> dielectric_fresnel;
   for (int c = 0; c < 3; ++c) dielectric_fresnel[c] = dielectric_f0[c] + (dielectric_f90 - dielectric_f0[c]) * w;
   T fresnel_max = dielectric_fresnel[0];
