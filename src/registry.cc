@@ -10,6 +10,7 @@
 #include "brdffit/models/ggx.h"
 #include "brdffit/models/ggx_aniso.h"
 #include "brdffit/models/gltf.h"
+#include "brdffit/models/gltf_clearcoat.h"
 #include "brdffit/models/gltf_specular.h"
 #include "brdffit/models/half_lambert.h"
 #include "brdffit/models/lafortune.h"
@@ -69,6 +70,7 @@ const std::vector<std::unique_ptr<Model>>& all_models() {
     // Renderer materials: the BRDFs of glTF, OpenPBR and the Disney principled shader.
     add<models::Gltf>(list);
     add<models::GltfSpecular>(list);
+    add<models::GltfClearcoat>(list);
     add<models::OpenPbr>(list);
     add<models::Principled>(list);
     add<models::MitsubaPrincipled>(list);

@@ -384,6 +384,29 @@ TEST(HandValues, GltfSpecular) {
               });
 }
 
+TEST(HandValues, GltfClearcoat) {
+  // KHR_materials_clearcoat (README, "Implementation"), with the clear coat's normal n (no normal texture):
+  //   clearcoat_fresnel = 0.04 + (1 - 0.04) (1 - |v·n|)^5      (fresnel_coat's f0 = ((1 - 1.5)/(1 + 1.5))²)
+  //   clearcoat_brdf = D(α_c) G(α_c) / (4 |v·n| |l·n|) = V·D,  α_c = clearcoatRoughness²
+  //   coated_material = mix(material, clearcoat_brdf, clearcoat · clearcoat_fresnel),
+  // material the core glTF BRDF of Appendix B as in HandValues.Gltf.
+  const double metallic = 0.37, roughness = 0.58, clearcoat = 0.64, clearcoat_roughness = 0.23;
+  expect_brdf("gltf-clearcoat",
+              {"baseColor=0.62,0.35,0.17", "metallic=0.37", "roughness=0.58", "clearcoatFactor=0.64",
+               "clearcoatRoughnessFactor=0.23"},
+              [&](const Pair& p, int c) {
+                const double w = pow5(1 - std::abs(p.v.dot(p.h))), vd = gltf_specular_vd(p, roughness);
+                const double fr = 0.04 + 0.96 * w;
+                const double dielectric = (1 - fr) * kBase[c] / kPi + fr * vd;
+                const double metal = (kBase[c] + (1 - kBase[c]) * w) * vd;
+                const double material = (1 - metallic) * dielectric + metallic * metal;
+                const double clearcoat_fresnel = 0.04 + (1 - 0.04) * pow5(1 - std::abs(p.nv));
+                const double clearcoat_brdf = gltf_specular_vd(p, clearcoat_roughness);
+                const double weight = clearcoat * clearcoat_fresnel;
+                return (1 - weight) * material + weight * clearcoat_brdf;
+              });
+}
+
 double mix(double a, double b, double t) { return a + (b - a) * t; }
 
 TEST(HandValues, PrincipledAsDisneyBrdf) {

@@ -52,7 +52,8 @@ class Model {
   virtual const std::string& name() const = 0;
   virtual const std::string& summary() const = 0;  // one line: formula and source
   virtual const std::vector<ParamSpec>& parameters() const = 0;
-  virtual bool has_brdf() const = 0;  // physically based: f exists and is reciprocal
+  // Physically based: f exists, reciprocal unless its specification is not (gltf-clearcoat: its header).
+  virtual bool has_brdf() const = 0;
   // Every lobe is normalised: inside the bounds each linear parameter's term alone (and what
   // remains with all of them at 0, e.g. Schlick's grazing Fresnel) has directional albedo <= 1.
   // The terms are not coupled, so their sum can exceed 1 (albedo 1 plus a lobe).
