@@ -225,12 +225,36 @@ void read_fresnel_one(const Model& model, Material& material, double specular,
   }
 }
 
-// One entry of a glTF file's "materials" (an object).
+// KHR_materials_clearcoat's factors (defaults 0) into the gltf-clearcoat model. A roughness below
+// the model's bound (the extension's default 0) is clamped with a warning, silently when the
+// factor is 0: the coat is then off, whatever its roughness.
+void read_clearcoat(const Model& model, Material& material, const nlohmann::json& coat, const std::string& path,
+                    const std::string& where, std::vector<std::string>& warnings) {
+  const double factor =
+      json_numbers(coat.value("clearcoatFactor", nlohmann::json(0.0)), 1, where + " clearcoatFactor", path)[0];
+  const double roughness = json_numbers(coat.value("clearcoatRoughnessFactor", nlohmann::json(0.0)), 1,
+                                        where + " clearcoatRoughnessFactor", path)[0];
+  set_parameter(model, material, "clearcoatFactor", {factor}, path, warnings);
+  if (factor == 0.0) {
+    const ParamSpec& p = *model.find_parameter("clearcoatRoughnessFactor");
+    material.values[model.offset_of(p.name)] = std::clamp(roughness, p.lower, p.upper);
+  } else {
+    set_parameter(model, material, "clearcoatRoughnessFactor", {roughness}, path, warnings);
+  }
+  for (const char* texture : {"clearcoatTexture", "clearcoatRoughnessTexture", "clearcoatNormalTexture"})
+    if (coat.contains(texture))
+      warnings.push_back(fmt::format("{}: {} has a {}: only the factors are scored", path, where, texture));
+}
+
+// One entry of a glTF file's "materials" (an object). A material with KHR_materials_clearcoat is
+// read as gltf-clearcoat, unless it also has KHR_materials_ior or KHR_materials_specular, which
+// gltf-specular holds (no model holds both: the coat is then reported as left out).
 Material read_gltf_material(const nlohmann::json& m, int index, const std::string& path,
                             std::vector<std::string>& warnings) {
   const nlohmann::json extensions = m.value("extensions", nlohmann::json::object());
   const bool has_specular = extensions.contains("KHR_materials_ior") || extensions.contains("KHR_materials_specular");
-  const Model& model = *find_model(has_specular ? "gltf-specular" : "gltf");
+  const bool has_clearcoat = !has_specular && extensions.contains("KHR_materials_clearcoat");
+  const Model& model = *find_model(has_specular ? "gltf-specular" : has_clearcoat ? "gltf-clearcoat" : "gltf");
   Material material{m.value("name", fmt::format("material {}", index)), model.name(), model.default_values()};
   // glTF's defaults where a factor is absent: baseColor 1, metallic 1, roughness 1.
   const nlohmann::json pbr = m.value("pbrMetallicRoughness", nlohmann::json::object());
@@ -261,12 +285,15 @@ Material read_gltf_material(const nlohmann::json& m, int index, const std::strin
     else
       set_parameter(model, material, "ior", {ior}, path, warnings);
   }
+  if (has_clearcoat) read_clearcoat(model, material, extensions["KHR_materials_clearcoat"], path, where, warnings);
   for (const char* texture : {"baseColorTexture", "metallicRoughnessTexture"})
     if (pbr.contains(texture))
       warnings.push_back(fmt::format("{}: {} has a {}: only the factors are scored", path, where, texture));
   for (const auto& [name, value] : extensions.items())
-    if (name != "KHR_materials_ior" && name != "KHR_materials_specular")
-      warnings.push_back(fmt::format("{}: {} uses {}, which the gltf models leave out", path, where, name));
+    if (name != "KHR_materials_ior" && name != "KHR_materials_specular" &&
+        !(has_clearcoat && name == "KHR_materials_clearcoat"))
+      warnings.push_back(
+          fmt::format("{}: {} uses {}, which the {} model it is read as leaves out", path, where, name, model.name()));
   return material;
 }
 

@@ -69,6 +69,8 @@ using test::fit_of;
 
 const std::vector<std::string> kGltfSpecular = {
     "baseColor=0.8,0.5,0.25", "metallic=0.3", "roughness=0.45", "ior=1.7", "specular=0.8", "specularColor=1,0.9,0.7"};
+const std::vector<std::string> kGltfClearcoat = {"baseColor=0.8,0.5,0.25", "metallic=0.3", "roughness=0.45",
+                                                 "clearcoatFactor=0.7", "clearcoatRoughnessFactor=0.15"};
 const std::vector<std::string> kOpenPbr = {"base_color=0.7,0.4,0.2",     "base_metalness=0.2",
                                            "base_diffuse_roughness=0.3", "specular_color=1,0.8,0.6",
                                            "specular_roughness=0.35",    "specular_ior=1.6"};
@@ -97,12 +99,12 @@ void expect_round_trip(const std::string& doc, const std::string& out, const std
 
 TEST(ExportCli, EachFormatWritesItsModelsFitUnchangedAndReadsBack) {
   const std::string dir = test::fresh_dir("export-round-trip");
-  const std::string doc =
-      test::write_document(dir + "/gold.json", "/data/gold.binary",
-                           {fit_of("ggx", {"albedo=0.1", "roughness=0.3", "f0=0.9,0.6,0.3"}),
-                            fit_of("gltf", {"baseColor=0.9,0.6,0.3", "metallic=0.85", "roughness=0.3"}),
-                            fit_of("gltf-specular", kGltfSpecular), fit_of("openpbr", kOpenPbr),
-                            fit_of("principled", kPrincipled), fit_of("mitsuba-principled", kMitsubaPrincipled)});
+  const std::string doc = test::write_document(
+      dir + "/gold.json", "/data/gold.binary",
+      {fit_of("ggx", {"albedo=0.1", "roughness=0.3", "f0=0.9,0.6,0.3"}),
+       fit_of("gltf", {"baseColor=0.9,0.6,0.3", "metallic=0.85", "roughness=0.3"}),
+       fit_of("gltf-specular", kGltfSpecular), fit_of("gltf-clearcoat", kGltfClearcoat), fit_of("openpbr", kOpenPbr),
+       fit_of("principled", kPrincipled), fit_of("mitsuba-principled", kMitsubaPrincipled)});
   // glTF: core by default (what most viewers read), the KHR extensions from the gltf-specular fit.
   expect_round_trip(doc, dir + "/gold.gltf", "gltf", {"baseColor=0.9,0.6,0.3", "metallic=0.85", "roughness=0.3"}, 0.0);
   const nlohmann::json core = nlohmann::json::parse(read_file(dir + "/gold.gltf"));
@@ -113,6 +115,13 @@ TEST(ExportCli, EachFormatWritesItsModelsFitUnchangedAndReadsBack) {
   const nlohmann::json ext = nlohmann::json::parse(read_file(dir + "/gold-specular.gltf"));
   EXPECT_EQ(ext["extensionsUsed"], nlohmann::json({"KHR_materials_ior", "KHR_materials_specular"}));
   EXPECT_EQ(ext["materials"][0]["extensions"]["KHR_materials_ior"]["ior"], 1.7);
+  // The second lobe: KHR_materials_clearcoat's two factors, exactly, and nothing else.
+  expect_round_trip(doc, dir + "/gold-clearcoat.gltf", "gltf-clearcoat", kGltfClearcoat, 0.0, " -m gltf-clearcoat");
+  const nlohmann::json coat = nlohmann::json::parse(read_file(dir + "/gold-clearcoat.gltf"));
+  EXPECT_EQ(coat["extensionsUsed"], nlohmann::json({"KHR_materials_clearcoat"}));
+  EXPECT_EQ(coat["materials"][0]["extensions"],
+            nlohmann::json::parse(
+                R"({"KHR_materials_clearcoat": {"clearcoatFactor": 0.7, "clearcoatRoughnessFactor": 0.15}})"));
   // OpenPBR and Mitsuba: nine significant digits in the files, so these short decimals come back exactly.
   expect_round_trip(doc, dir + "/gold.mtlx", "openpbr", kOpenPbr, 0.0);
   // Mitsuba: the mitsuba-principled fit (what the plugin evaluates), not Burley's principled one.
@@ -548,8 +557,8 @@ TEST(ExportTools, KhronosValidatorFindsNothing) {
   const std::string doc =
       test::write_document(dir + "/hostile.json", kHostileInput,
                            {fit_of("gltf", {"baseColor=0.9,0.6,0.3", "metallic=1", "roughness=0.3"}),
-                            fit_of("gltf-specular", kGltfSpecular)});
-  for (const std::string model : {"gltf", "gltf-specular"}) {
+                            fit_of("gltf-specular", kGltfSpecular), fit_of("gltf-clearcoat", kGltfClearcoat)});
+  for (const std::string model : {"gltf", "gltf-specular", "gltf-clearcoat"}) {
     const std::string out = dir + "/" + model + ".gltf";
     const auto run = test::run_cli("export " + doc + " -m " + model + " --out " + out);
     ASSERT_EQ(run.exit_code, 0) << run.output;
@@ -681,6 +690,50 @@ TEST(MaterialImport, MitsubaEtaIsReadAsTheSpecularOfTheSameIor) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("'m' gives both eta and specular"), std::string::npos) << e.what();
   }
+}
+
+// A glTF file of one core material (kGltfClearcoat's base) with these material extensions.
+std::string write_gltf_with_extensions(const std::string& path, const std::string& extensions) {
+  nlohmann::json gltf = nlohmann::json::parse(gltf_document(
+      {"m", "gltf", parameter_values(*find_model("gltf"), {kGltfClearcoat[0], kGltfClearcoat[1], kGltfClearcoat[2]})},
+      nlohmann::json::object()));
+  gltf["materials"][0]["extensions"] = nlohmann::json::parse(extensions);
+  write_file_atomic(path, gltf.dump());
+  return path;
+}
+
+TEST(MaterialImport, GltfClearcoatIsReadWithTheExtensionsDefaults) {
+  // KHR_materials_clearcoat: clearcoatFactor and clearcoatRoughnessFactor default to 0.
+  const std::string dir = test::fresh_dir("import-clearcoat");
+  std::vector<std::string> warnings;
+  const Material coated = read_material(
+      write_gltf_with_extensions(dir + "/coated.gltf", R"({"KHR_materials_clearcoat": {"clearcoatFactor": 0.4}})"), "",
+      warnings);
+  EXPECT_EQ(coated.model, "gltf-clearcoat");
+  EXPECT_EQ(value_of(coated, "baseColor", 1), 0.5);
+  EXPECT_EQ(value_of(coated, "clearcoatFactor"), 0.4);
+  // The default roughness 0 (a mirror coat) is below the model's 0.01: clamped, and said.
+  EXPECT_EQ(value_of(coated, "clearcoatRoughnessFactor"), 0.01);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("clearcoatRoughnessFactor of 'm' is 0, outside"), std::string::npos) << warnings[0];
+  // Factor 0: the coat is off, so its roughness is no error (nothing to say), and the BRDF is the core's.
+  warnings.clear();
+  const Material off =
+      read_material(write_gltf_with_extensions(dir + "/off.gltf", R"({"KHR_materials_clearcoat": {}})"), "", warnings);
+  EXPECT_TRUE(warnings.empty()) << warnings.front();
+  EXPECT_EQ(off.model, "gltf-clearcoat");
+  EXPECT_EQ(value_of(off, "clearcoatFactor"), 0.0);
+  // With KHR_materials_specular too, no model holds both: gltf-specular, and the coat said to be left out.
+  const Material both = read_material(
+      write_gltf_with_extensions(
+          dir + "/both.gltf",
+          R"({"KHR_materials_specular": {"specularFactor": 0.5}, "KHR_materials_clearcoat": {"clearcoatFactor": 1}})"),
+      "", warnings);
+  EXPECT_EQ(both.model, "gltf-specular");
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("uses KHR_materials_clearcoat, which the gltf-specular model it is read as leaves out"),
+            std::string::npos)
+      << warnings[0];
 }
 
 // The cosine-weighted mean albedo of an openpbr material over the hemisphere, by the midpoint rule

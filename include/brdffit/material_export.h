@@ -1,8 +1,9 @@
 // Renderer materials from fits: the library side of `brdffit export`, and of `score --material`.
 //
 // A fit of a renderer's own BRDF is written unchanged:
-//   glTF 2.0 (.gltf)        the `gltf` fit (core metallic-roughness) or the `gltf-specular` fit
-//                           (with KHR_materials_ior and KHR_materials_specular), on a small
+//   glTF 2.0 (.gltf)        the `gltf` fit (core metallic-roughness), the `gltf-specular` fit
+//                           (with KHR_materials_ior and KHR_materials_specular) or the
+//                           `gltf-clearcoat` fit (with KHR_materials_clearcoat), on a small
 //                           sphere mesh so that any viewer shows it;
 //   OpenPBR (.mtlx)         the `openpbr` fit as a MaterialX document with an open_pbr_surface;
 //   Mitsuba 3 (.xml)        the `mitsuba-principled` fit as Mitsuba's `principled` BSDF (the model is
@@ -55,10 +56,11 @@ const char* material_format_name(MaterialFormat format);
 // path's extension (.gltf, .mtlx, .xml); throws Error otherwise, and when the name and the
 // extension imply different formats.
 MaterialFormat material_format(const std::string& name, const std::string& path);
-// The models a format writes unchanged (gltf: gltf and gltf-specular).
+// The models a format writes unchanged (gltf: gltf, gltf-specular and gltf-clearcoat).
 std::vector<std::string> native_models(MaterialFormat format);
 
-// A material of one of the renderer models (gltf, gltf-specular, openpbr, principled, mitsuba-principled).
+// A material of one of the renderer models (gltf, gltf-specular, gltf-clearcoat, openpbr, principled,
+// mitsuba-principled).
 struct Material {
   std::string name;
   std::string model;
@@ -106,7 +108,7 @@ std::string mitsuba_document(const Material& material, const std::string& commen
 constexpr uint64_t kMaxMaterialFileBytes = uint64_t{16} << 20;
 
 // Materials read back from a .gltf, .mtlx or Mitsuba .xml file, each as the matching model
-// (gltf or gltf-specular, openpbr, mitsuba-principled). Inputs the model does not have (textures,
+// (gltf, gltf-specular or gltf-clearcoat, openpbr, mitsuba-principled). Inputs the model does not have (textures,
 // coat, ...) or holds fixed are reported in `warnings`. Throws Error naming the file when it
 // is not one of these formats, is larger than kMaxMaterialFileBytes or holds no material. Time
 // and memory are linear in the file's size.
