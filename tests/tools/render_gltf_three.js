@@ -13,7 +13,7 @@
 // (three.js applies outputColorSpace and toneMapping only when drawing to the screen).
 //
 // The material comes from three's own GLTFLoader (MeshStandardMaterial for core glTF,
-// MeshPhysicalMaterial with KHR_materials_ior / _specular); the sphere is three's SphereGeometry,
+// MeshPhysicalMaterial with KHR_materials_ior / _specular / _clearcoat); the sphere is three's SphereGeometry,
 // tessellated finely so that interpolated vertex normals stay within a fraction of a pixel's
 // normal change of the analytic sphere's.
 //
