@@ -19,6 +19,7 @@
 #include "brdffit/fit.h"
 #include "brdffit/measured.h"
 #include "brdffit/names.h"
+#include "brdffit/registry.h"
 
 namespace brdffit::cli {
 

@@ -24,6 +24,7 @@
 #include "brdffit/error.h"
 #include "brdffit/io.h"
 #include "brdffit/material_export.h"
+#include "brdffit/registry.h"
 #include "brdffit/result_json.h"
 #include "cli_common.h"
 #include "commands.h"

@@ -12,6 +12,7 @@
 #include "brdffit/material_export.h"
 #include "brdffit/measured.h"
 #include "brdffit/published_fits.h"
+#include "brdffit/registry.h"
 #include "brdffit/result_json.h"
 #include "cli_common.h"
 #include "commands.h"

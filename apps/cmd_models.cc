@@ -6,6 +6,7 @@
 
 #include "brdffit/error.h"
 #include "brdffit/model.h"
+#include "brdffit/registry.h"
 #include "brdffit/result_json.h"
 #include "cli_common.h"
 #include "commands.h"

@@ -8,6 +8,7 @@
 #include "brdffit/image_io.h"
 #include "brdffit/io.h"
 #include "brdffit/measured.h"
+#include "brdffit/registry.h"
 #include "brdffit/render.h"
 #include "brdffit/report.h"
 #include "brdffit/result_json.h"

@@ -11,6 +11,7 @@
 #include "brdffit/error.h"
 #include "brdffit/image_io.h"
 #include "brdffit/io.h"
+#include "brdffit/registry.h"
 #include "brdffit/result_json.h"
 #include "brdffit/sphere_fit.h"
 #include "cli_common.h"

@@ -12,6 +12,7 @@
 #include "aniso_tables.h"
 #include "brdffit/error.h"
 #include "brdffit/fit.h"
+#include "brdffit/registry.h"
 #include "brdffit/rgl.h"
 
 using namespace brdffit;

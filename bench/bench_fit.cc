@@ -15,6 +15,7 @@
 #include "brdffit/error.h"
 #include "brdffit/fit.h"
 #include "brdffit/measured.h"
+#include "brdffit/registry.h"
 
 using namespace brdffit;
 

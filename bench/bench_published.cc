@@ -21,6 +21,7 @@
 #include "brdffit/fit.h"
 #include "brdffit/measured.h"
 #include "brdffit/published_fits.h"
+#include "brdffit/registry.h"
 
 using namespace brdffit;
 

@@ -32,6 +32,7 @@
 #include "brdffit/fit.h"
 #include "brdffit/measured.h"
 #include "brdffit/merl.h"
+#include "brdffit/registry.h"
 #include "brdffit/sphere_fit.h"
 
 using namespace brdffit;

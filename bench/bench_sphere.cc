@@ -16,6 +16,7 @@
 
 #include "brdffit/error.h"
 #include "brdffit/fit.h"
+#include "brdffit/registry.h"
 #include "brdffit/sphere_fit.h"
 #include "sphere_scenes.h"
 

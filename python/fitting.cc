@@ -15,6 +15,7 @@
 #include "bindings.h"
 #include "brdffit/error.h"
 #include "brdffit/io.h"
+#include "brdffit/registry.h"
 #include "brdffit/result_json.h"
 
 namespace brdffit::python {

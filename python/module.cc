@@ -7,6 +7,7 @@
 
 #include "bindings.h"
 #include "brdffit/error.h"
+#include "brdffit/registry.h"
 
 namespace brdffit::python {
 

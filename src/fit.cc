@@ -21,6 +21,7 @@
 #include "brdffit/held_model.h"
 #include "brdffit/importance_subset.h"
 #include "brdffit/parallel.h"
+#include "brdffit/registry.h"
 #include "brdffit/variable_projection.h"
 
 namespace brdffit {

@@ -17,6 +17,7 @@
 #include "brdffit/io.h"
 #include "brdffit/measured.h"
 #include "brdffit/model.h"
+#include "brdffit/registry.h"
 
 namespace brdffit {
 

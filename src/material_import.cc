@@ -15,6 +15,7 @@
 #include "brdffit/io.h"
 #include "brdffit/material_export.h"
 #include "brdffit/model.h"
+#include "brdffit/registry.h"
 #include "brdffit/result_json.h"
 
 namespace brdffit {

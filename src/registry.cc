@@ -1,4 +1,13 @@
-// The list of models. Adding a model: write include/brdffit/models/<name>.h and add one line here.
+// The list of models and their lookup by name (registry.h). Adding a model: write
+// include/brdffit/models/<name>.h and add one line in all_models().
+#include "brdffit/registry.h"
+
+#include <algorithm>
+#include <map>
+#include <mutex>
+#include <sstream>
+
+#include "brdffit/error.h"
 #include "brdffit/model_adapter.h"
 #include "brdffit/models/ashikhmin_shirley.h"
 #include "brdffit/models/ashikhmin_shirley_aniso.h"
@@ -30,6 +39,8 @@
 #include "brdffit/models/ward.h"
 #include "brdffit/models/ward_aniso.h"
 #include "brdffit/models/wrap.h"
+#include "brdffit/names.h"
+#include "brdffit/two_lobes.h"
 
 namespace brdffit {
 
@@ -80,6 +91,91 @@ const std::vector<std::unique_ptr<Model>>& all_models() {
     add<models::AshikhminShirleyAniso>(list);
     return list;
   }();
+  return models;
+}
+
+namespace {
+const Model* find_registered(const std::string& name) {
+  for (const auto& m : all_models())
+    if (m->name() == name) return m.get();
+  return nullptr;
+}
+
+// "FIRST+SECOND": built on first use and kept for the program's lifetime (callers hold
+// pointers), so each pair is built once.
+const Model* find_two_lobes(const std::string& name) {
+  const size_t plus = name.find(kLobeSeparator);
+  const Model* first = find_registered(name.substr(0, plus));
+  const Model* second = find_registered(name.substr(plus + 1));
+  if (!first || !second) return nullptr;
+  static std::mutex mutex;
+  static std::map<std::string, std::unique_ptr<Model>> built;
+  const std::lock_guard<std::mutex> lock(mutex);
+  std::unique_ptr<Model>& model = built[name];
+  if (!model) model = make_two_lobes(*first, *second);
+  return model.get();
+}
+}  // namespace
+
+const Model* find_model(const std::string& name) {
+  if (name.find(kLobeSeparator) != std::string::npos) return find_two_lobes(name);
+  return find_registered(name);
+}
+
+std::string model_names() {
+  std::string names;
+  for (const auto& m : all_models()) names += (names.empty() ? "" : ", ") + m->name();
+  return names;
+}
+
+namespace {
+// The name `typed` (one model or FIRST+SECOND) most likely meant, or "" (names.h).
+std::string closest_model_name(const std::string& typed) {
+  const size_t plus = typed.find(kLobeSeparator);
+  if (plus != std::string::npos) {
+    const std::string first = closest_model_name(typed.substr(0, plus)),
+                      second = closest_model_name(typed.substr(plus + 1));
+    return first.empty() || second.empty() ? "" : first + kLobeSeparator + second;
+  }
+  std::vector<std::string> known{"all"};
+  for (const auto& m : all_models()) known.push_back(m->name());
+  return closest_name(typed, known);
+}
+}  // namespace
+
+std::vector<const Model*> parse_model_list(const std::string& list) {
+  std::vector<const Model*> models;
+  if (list == "all") {
+    for (const auto& m : all_models()) models.push_back(m.get());
+    return models;
+  }
+  std::vector<std::string> names;
+  std::stringstream stream(list);
+  for (std::string name; std::getline(stream, name, ',');)
+    if (!name.empty()) names.push_back(name);
+  for (const std::string& name : names) {
+    const Model* m = nullptr;
+    try {
+      m = find_model(name);
+    } catch (const Error& e) {  // FIRST+SECOND whose parts are no lobes over Lambert
+      throw UsageError(fmt::format("--models: {}", e.what()));
+    }
+    if (!m) {
+      // The whole list respelled, so that one typo among several names is fixed in one go.
+      std::string respelled;
+      for (const std::string& n : names) {
+        const std::string closest = closest_model_name(n);
+        respelled += (respelled.empty() ? "" : ",") + (closest.empty() ? n : closest);
+      }
+      const bool known = closest_model_name(name).size() > 0;
+      fail_usage(
+          "--models: unknown model '{}'{} (known: {}; two lobes over one Lambert base: FIRST+SECOND, e.g. "
+          "ggx+ggx)",
+          name, known ? "; did you mean -m " + respelled + "?" : "", model_names());
+    }
+    if (std::find(models.begin(), models.end(), m) == models.end()) models.push_back(m);
+  }
+  if (models.empty()) fail_usage("--models: no model named");
   return models;
 }
 

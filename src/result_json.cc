@@ -8,6 +8,7 @@
 #include "brdffit/error.h"
 #include "brdffit/io.h"
 #include "brdffit/measured.h"
+#include "brdffit/registry.h"
 
 namespace brdffit {
 

@@ -10,6 +10,7 @@
 
 #include "brdffit/error.h"
 #include "brdffit/io.h"
+#include "brdffit/registry.h"
 #include "brdffit/result_json.h"
 
 namespace brdffit {

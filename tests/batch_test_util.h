@@ -16,6 +16,7 @@
 #include "brdffit/fit.h"
 #include "brdffit/io.h"
 #include "brdffit/model.h"
+#include "brdffit/registry.h"
 #include "brdffit/result_json.h"
 #include "test_util.h"
 

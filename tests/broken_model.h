@@ -8,6 +8,7 @@
 
 #include "brdffit/fit_residual.h"
 #include "brdffit/model.h"
+#include "brdffit/registry.h"
 
 namespace brdffit::test {
 

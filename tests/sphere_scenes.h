@@ -11,6 +11,7 @@
 
 #include "brdffit/image_io.h"
 #include "brdffit/io.h"
+#include "brdffit/registry.h"
 #include "brdffit/sphere.h"
 
 namespace brdffit::test {

@@ -7,6 +7,7 @@
 
 #include "batch_test_util.h"
 #include "brdffit/batch.h"
+#include "brdffit/registry.h"
 #include "broken_model.h"
 
 namespace brdffit {

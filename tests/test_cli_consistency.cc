@@ -14,6 +14,7 @@
 #include "brdffit/io.h"
 #include "brdffit/metric.h"
 #include "brdffit/model.h"
+#include "brdffit/registry.h"
 #include "test_util.h"
 
 namespace brdffit {

@@ -16,6 +16,7 @@
 #include "brdffit/material_export.h"
 #include "brdffit/model.h"
 #include "brdffit/models/gltf.h"
+#include "brdffit/registry.h"
 
 namespace brdffit {
 namespace {

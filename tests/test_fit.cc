@@ -10,6 +10,7 @@
 #include "brdffit/error.h"
 #include "brdffit/fit.h"
 #include "brdffit/fit_residual.h"
+#include "brdffit/registry.h"
 #include "broken_model.h"
 #include "test_util.h"
 

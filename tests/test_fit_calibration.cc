@@ -12,6 +12,7 @@
 #include "brdffit/fit_residual.h"
 #include "brdffit/importance_subset.h"
 #include "brdffit/models/ggx.h"
+#include "brdffit/registry.h"
 #include "test_util.h"
 
 namespace brdffit {

@@ -9,6 +9,7 @@
 #include "brdffit/csv_samples.h"
 #include "brdffit/io.h"
 #include "brdffit/model.h"
+#include "brdffit/registry.h"
 #include "test_util.h"
 
 namespace brdffit {

@@ -3,6 +3,7 @@
 
 #include "brdffit/fit.h"
 #include "brdffit/fit_objective.h"
+#include "brdffit/registry.h"
 #include "test_util.h"
 
 namespace brdffit {

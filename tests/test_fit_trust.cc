@@ -9,6 +9,7 @@
 
 #include "brdffit/fit.h"
 #include "brdffit/measured.h"
+#include "brdffit/registry.h"
 #include "test_util.h"
 
 namespace brdffit {

@@ -21,6 +21,7 @@
 #include "brdffit/fit.h"
 #include "brdffit/image_io.h"
 #include "brdffit/io.h"
+#include "brdffit/registry.h"
 #include "brdffit/result_json.h"
 #include "brdffit/samples.h"
 #include "brdffit/sphere.h"

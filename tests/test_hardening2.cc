@@ -24,6 +24,7 @@
 #include "brdffit/measured.h"
 #include "brdffit/merl.h"
 #include "brdffit/published_fits.h"
+#include "brdffit/registry.h"
 #include "brdffit/result_json.h"
 #include "brdffit/samples.h"
 #include "brdffit/sphere_fit.h"

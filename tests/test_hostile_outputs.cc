@@ -8,6 +8,7 @@
 #include "batch_test_util.h"
 #include "brdffit/compare.h"
 #include "brdffit/error.h"
+#include "brdffit/registry.h"
 #include "brdffit/report.h"
 
 namespace brdffit {

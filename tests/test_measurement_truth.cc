@@ -14,6 +14,7 @@
 #include "brdffit/measured.h"
 #include "brdffit/merl.h"
 #include "brdffit/model.h"
+#include "brdffit/registry.h"
 #include "brdffit/rgl.h"
 #include "brdffit/rusinkiewicz.h"
 #include "tables_test_util.h"

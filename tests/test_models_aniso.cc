@@ -7,6 +7,7 @@
 #include "brdffit/csv_samples.h"
 #include "brdffit/fit.h"
 #include "brdffit/model.h"
+#include "brdffit/registry.h"
 #include "brdffit/rgl.h"
 #include "test_util.h"
 

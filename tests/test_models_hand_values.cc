@@ -17,6 +17,7 @@
 #include <Eigen/Geometry>
 
 #include "brdffit/model.h"
+#include "brdffit/registry.h"
 #include "test_util.h"
 
 namespace brdffit {

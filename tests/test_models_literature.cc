@@ -10,6 +10,7 @@
 #include "brdffit/io.h"
 #include "brdffit/model.h"
 #include "brdffit/published_fits.h"
+#include "brdffit/registry.h"
 #include "test_util.h"
 
 namespace brdffit {

@@ -9,6 +9,7 @@
 #include <set>
 
 #include "brdffit/model.h"
+#include "brdffit/registry.h"
 #include "test_util.h"
 
 namespace brdffit {

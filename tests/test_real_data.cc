@@ -6,6 +6,7 @@
 #include "brdffit/fit.h"
 #include "brdffit/measured.h"
 #include "brdffit/published_fits.h"
+#include "brdffit/registry.h"
 #include "tables_test_util.h"
 
 namespace brdffit {

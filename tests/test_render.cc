@@ -7,6 +7,7 @@
 #include "brdffit/error.h"
 #include "brdffit/image_io.h"
 #include "brdffit/merl.h"
+#include "brdffit/registry.h"
 #include "brdffit/render.h"
 
 namespace brdffit {

@@ -11,6 +11,7 @@
 #include "batch_test_util.h"
 #include "brdffit/image_io.h"
 #include "brdffit/merl.h"
+#include "brdffit/registry.h"
 #include "brdffit/render.h"
 #include "sphere_scenes.h"
 

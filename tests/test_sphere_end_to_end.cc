@@ -13,6 +13,7 @@
 #include "brdffit/fit.h"
 #include "brdffit/image_io.h"
 #include "brdffit/io.h"
+#include "brdffit/registry.h"
 #include "brdffit/sphere_fit.h"
 #include "sphere_scenes.h"
 #include "test_util.h"

@@ -8,6 +8,7 @@
 #include "brdffit/io.h"
 #include "brdffit/merl.h"
 #include "brdffit/model.h"
+#include "brdffit/registry.h"
 #include "tables_test_util.h"
 
 namespace brdffit {

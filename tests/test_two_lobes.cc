@@ -18,6 +18,7 @@
 #include "brdffit/model.h"
 #include "brdffit/model_adapter.h"
 #include "brdffit/models/ggx.h"
+#include "brdffit/registry.h"
 #include "test_util.h"
 
 namespace brdffit {

@@ -6,6 +6,7 @@
 
 #include "brdffit/fit_objective.h"
 #include "brdffit/model.h"
+#include "brdffit/registry.h"
 #include "brdffit/variable_projection.h"
 #include "test_util.h"
 

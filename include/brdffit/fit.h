@@ -102,9 +102,6 @@ FitResult fit_model(const Model& model, const SampleSet& data, const FitOptions&
 std::vector<FitResult> fit_models(const std::vector<const Model*>& models, const SampleSet& data,
                                   const FitOptions& options);
 
-// Parses "a,b,c" or "all" into models; throws Error naming an unknown model.
-std::vector<const Model*> parse_model_list(const std::string& list);
-
 // Every metric for given parameter values (flattened, model order) on a sample set.
 // per_channel_values: when non-empty, three full value vectors, one per channel.
 Metrics evaluate_metrics(const Model& model, const std::vector<double>& values, const SampleSet& data,

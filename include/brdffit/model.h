@@ -1,4 +1,5 @@
-// The model interface every part of brdffit uses (CLI, fitter, renderer), and the registry.
+// The model interface every part of brdffit uses (CLI, fitter, renderer); the list of models and
+// their lookup by name are in registry.h.
 //
 // A model is written once as a small struct with a static templated evaluation (see
 // models/lambert.h for the pattern); ModelAdapter<M> (model_adapter.h) turns it into a Model.
@@ -89,14 +90,6 @@ std::vector<double> embed_values(const Model& outer, const Nesting& nesting, con
 // ggx, α_x = α_y = roughness²). The fitter fits that form in the model's place on isotropic data.
 // nullptr when the model has no orientation or declares no such nesting.
 const Nesting* isotropic_form(const Model& model);
-
-// Every model brdffit knows, in a stable order.
-const std::vector<std::unique_ptr<Model>>& all_models();
-// The model with this CLI name, or nullptr. "FIRST+SECOND" names two lobes over one Lambert
-// base (two_lobes.h), built on first use; throws Error when a component is not such a lobe.
-const Model* find_model(const std::string& name);
-// The names of all models, comma separated (for messages).
-std::string model_names();
 
 // The shaded value of a fitted model: one value vector, or one per channel (FitResult's
 // channel_values) when that is non-empty.

@@ -10,6 +10,7 @@
 #include "brdffit/error.h"
 #include "brdffit/material_export.h"
 #include "brdffit/model.h"
+#include "brdffit/registry.h"
 #include "fuzz_file.h"
 
 namespace brdffit::fuzz {

@@ -7,6 +7,7 @@
 #include "brdffit/error.h"
 #include "brdffit/model.h"
 #include "brdffit/published_fits.h"
+#include "brdffit/registry.h"
 #include "fuzz_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -9,6 +9,7 @@
 #include "brdffit/compare.h"
 #include "brdffit/error.h"
 #include "brdffit/material_export.h"
+#include "brdffit/registry.h"
 #include "brdffit/result_json.h"
 #include "fuzz_file.h"
 

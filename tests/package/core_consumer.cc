@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "brdffit/model.h"
+#include "brdffit/registry.h"
 
 int main() {
   const brdffit::Model* lambert = brdffit::find_model("lambert");
