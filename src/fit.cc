@@ -334,7 +334,7 @@ class LeastSquares {
       batch.loss = loss_;
       batch.free_index = &r.free_index;
       batch.full_values = &r.values;
-      problem.AddResidualBlock(model_.new_batch_cost(batch), nullptr, x.data());
+      problem.AddResidualBlock(new_batch_cost(model_, batch), nullptr, x.data());
     }
     const std::vector<ValueSlot> slots = value_slots(model_);
     for (size_t k = 0; k < x.size(); ++k) {

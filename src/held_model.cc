@@ -24,7 +24,7 @@ class HeldBatchCost final : public ceres::CostFunction {
     ResidualBatch inner = batch;
     inner.free_index = &free_index_;
     inner.full_values = &full_values_;
-    inner_.reset(full.new_batch_cost(inner));
+    inner_.reset(brdffit::new_batch_cost(full, inner));
     set_num_residuals(inner_->num_residuals());
     *mutable_parameter_block_sizes() = inner_->parameter_block_sizes();
   }

@@ -67,7 +67,7 @@ const ParamSpec* switching_scale(const Model& model) {
   return nullptr;
 }
 
-class TwoLobes final : public Model {
+class TwoLobes final : public Model, public BatchCostSource {
  public:
   TwoLobes(const Model& first, const Model& second) : lobes_{&first, &second} {
     for (const Model* lobe : lobes_)

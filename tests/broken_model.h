@@ -14,7 +14,7 @@ namespace brdffit::test {
 
 // Lambert's parameters, NaN shading, and a cost function that cannot be evaluated: its fit
 // must fail cleanly (ok = false with a reason).
-class BrokenModel final : public Model {
+class BrokenModel final : public Model, public BatchCostSource {
  public:
   const std::string& name() const override { return name_; }
   const std::string& summary() const override { return name_; }

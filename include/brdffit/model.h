@@ -19,13 +19,7 @@
 #include "brdffit/math.h"
 #include "brdffit/param.h"
 
-namespace ceres {
-class CostFunction;
-}
-
 namespace brdffit {
-
-struct ResidualBatch;  // fit_residual.h
 
 // How a simpler model sits inside a model: the values of the outer model that describe the
 // inner one. The fitter fits the inner model first and starts the outer one from its optimum
@@ -64,12 +58,10 @@ class Model {
   virtual std::optional<Rgb<double>> brdf(const double* values, const Vec3& l, const Vec3& v) const = 0;
 
   // Shade with Ceres' automatic derivatives with respect to every flattened value:
-  // jacobian is 3 x num_values(), row-major. Used by tests and diagnostics.
+  // jacobian is 3 x num_values(), row-major. Used by tests and diagnostics, and by the fitter
+  // for a model that brings no batch cost of its own (fit_residual.h).
   virtual Rgb<double> shade_with_jacobian(const double* values, const Vec3& l, const Vec3& v,
                                           double* jacobian) const = 0;
-
-  // A Ceres cost function covering a batch of samples (see fit_residual.h); owned by caller.
-  virtual ceres::CostFunction* new_batch_cost(const ResidualBatch& batch) const = 0;
 
   // The simpler models this one contains (see Nesting); empty for none.
   virtual const std::vector<Nesting>& nestings() const;

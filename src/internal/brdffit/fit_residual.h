@@ -23,6 +23,7 @@
 #include <cmath>
 #include <vector>
 
+#include "brdffit/batch_cost_source.h"
 #include "brdffit/metric.h"
 #include "brdffit/model.h"
 #include "brdffit/model_eval.h"
@@ -230,5 +231,13 @@ class JacobianBatchCost final : public ceres::CostFunction {
   ResidualBatch batch_;
   int num_free_ = 0;
 };
+
+// The model's batch cost: its own when it is a BatchCostSource (every model of the registry, the
+// two-lobe composite, a HeldModel), else a JacobianBatchCost from its shade_with_jacobian. Owned
+// by the caller; `model` must outlive it.
+inline ceres::CostFunction* new_batch_cost(const Model& model, const ResidualBatch& batch) {
+  if (const auto* source = dynamic_cast<const BatchCostSource*>(&model)) return source->new_batch_cost(batch);
+  return new JacobianBatchCost(model, batch);
+}
 
 }  // namespace brdffit

@@ -10,12 +10,13 @@
 #include <utility>
 #include <vector>
 
+#include "brdffit/batch_cost_source.h"
 #include "brdffit/fit.h"
 #include "brdffit/model.h"
 
 namespace brdffit {
 
-class HeldModel final : public Model {
+class HeldModel final : public Model, public BatchCostSource {
  public:
   // `held`: parameter name and value (every channel of a colour); names the model does not have
   // are ignored (fit_models checks them against every model of a run).

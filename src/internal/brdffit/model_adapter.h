@@ -5,7 +5,8 @@
 // A model struct provides kName, kSummary, kEnergyConserving, kNumValues, parameters(), and
 // either brdf<T>(p, l, v) (physically based: shade = f·max(n·l,0) is derived here) or
 // shade<T>(p, l, v) (stylised: the seed's shader expression without the light colour);
-// optionally nestings() (model.h: the simpler models it contains).
+// optionally nestings() (model.h: the simpler models it contains). The adapter is also the
+// model's BatchCostSource: the fitter's cost is a BatchCost<M> (fit_residual.h).
 #pragma once
 
 #include <ceres/jet.h>
@@ -18,7 +19,7 @@
 namespace brdffit {
 
 template <class M>
-class ModelAdapter final : public Model {
+class ModelAdapter final : public Model, public BatchCostSource {
  public:
   ModelAdapter() : name_(M::kName), summary_(M::kSummary), params_(M::parameters()), nestings_(nestings_of<M>()) {
     static_assert(M::kNumValues > 0, "a model needs parameters");
@@ -52,9 +53,9 @@ class ModelAdapter final : public Model {
     return Rgb<double>(s[0].a, s[1].a, s[2].a);
   }
 
-  ceres::CostFunction* new_batch_cost(const ResidualBatch& batch) const override { return new BatchCost<M>(batch); }
-
   const std::vector<Nesting>& nestings() const override { return nestings_; }
+
+  ceres::CostFunction* new_batch_cost(const ResidualBatch& batch) const override { return new BatchCost<M>(batch); }
 
  private:
   template <class N, class = void>
