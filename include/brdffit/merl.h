@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "brdffit/measured.h"
+#include "brdffit/measured_brdf.h"
 #include "brdffit/rusinkiewicz.h"
 
 namespace brdffit {

@@ -34,7 +34,7 @@
 #include <string>
 #include <vector>
 
-#include "brdffit/measured.h"
+#include "brdffit/measured_brdf.h"
 
 namespace brdffit {
 
