@@ -12,12 +12,14 @@
 #include <optional>
 #include <random>
 
+#include "brdffit/base64.h"
 #include "brdffit/error.h"
 #include "brdffit/fit.h"
 #include "brdffit/io.h"
 #include "brdffit/measured.h"
 #include "brdffit/model.h"
 #include "brdffit/registry.h"
+#include "brdffit/text.h"
 
 namespace brdffit {
 
@@ -176,55 +178,6 @@ std::vector<double> export_values(const Model& model, const FitResult& fit, std:
     warnings.push_back("a per-channel fit: its shape parameters are written as the mean of the three channels'");
   }
   return values;
-}
-
-// Characters that can stand in XML 1.0 text: escaped markup, and every byte that is not part of
-// well-formed UTF-8, is a control character other than tab and newline, DEL, or part of U+FFFE or
-// U+FFFF (EF BF BE, EF BF BF: not XML characters) written as "\xNN".
-std::string xml_text(const std::string& text) {
-  std::string out;
-  for (size_t i = 0; i < text.size();) {
-    const size_t length = utf8_sequence_length(text, i);
-    const auto byte = [&](size_t k) { return static_cast<unsigned char>(text[i + k]); };
-    const bool control = length == 1 && ((byte(0) < 0x20 && byte(0) != '\t' && byte(0) != '\n') || byte(0) == 0x7F);
-    const bool non_character = length == 3 && byte(0) == 0xEF && byte(1) == 0xBF && byte(2) >= 0xBE;
-    if (length == 0 || control || non_character) {
-      for (size_t k = 0; k < std::max<size_t>(length, 1); ++k) out += fmt::format("\\x{:02X}", byte(k));
-      i += std::max<size_t>(length, 1);
-    } else {
-      out += length == 1 ? escape_markup(text.substr(i, 1)) : text.substr(i, length);
-      i += length;
-    }
-  }
-  return out;
-}
-
-// Text inside an XML comment: as xml_text, and no "--" (which would end it).
-std::string xml_comment_text(const std::string& text) {
-  std::string out;
-  for (char c : xml_text(text)) out += c == '-' && !out.empty() && out.back() == '-' ? " -" : std::string(1, c);
-  return out;
-}
-
-// A name for an XML id or a MaterialX element: letters, digits and '_' only, not starting with a digit.
-std::string xml_name(const std::string& name) {
-  std::string id;
-  for (char c : name) id += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
-  return id.empty() || std::isdigit(static_cast<unsigned char>(id[0])) ? "m_" + id : id;
-}
-
-std::string base64(const std::vector<uint8_t>& bytes) {
-  static const char* kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  for (size_t i = 0; i < bytes.size(); i += 3) {
-    const uint32_t n = (uint32_t(bytes[i]) << 16) | (i + 1 < bytes.size() ? uint32_t(bytes[i + 1]) << 8 : 0) |
-                       (i + 2 < bytes.size() ? uint32_t(bytes[i + 2]) : 0);
-    out += kAlphabet[(n >> 18) & 63];
-    out += kAlphabet[(n >> 12) & 63];
-    out += i + 1 < bytes.size() ? kAlphabet[(n >> 6) & 63] : '=';
-    out += i + 2 < bytes.size() ? kAlphabet[n & 63] : '=';
-  }
-  return out;
 }
 
 template <class T>

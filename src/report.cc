@@ -2,7 +2,6 @@
 #include "brdffit/report.h"
 
 #include <fmt/format.h>
-#include <openssl/evp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -11,6 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "brdffit/base64.h"
 #include "brdffit/compare.h"
 #include "brdffit/error.h"
 #include "brdffit/image_io.h"
@@ -540,11 +540,7 @@ std::string png_data_uri(const cv::Mat& display) {
   cv::cvtColor(codes, bgr, cv::COLOR_RGB2BGR);
   std::vector<uchar> png;
   if (!cv::imencode(".png", bgr, png)) fail("internal: cannot encode a PNG image");
-  std::string base64(4 * ((png.size() + 2) / 3) + 1, '\0');
-  const int length =
-      EVP_EncodeBlock(reinterpret_cast<unsigned char*>(base64.data()), png.data(), static_cast<int>(png.size()));
-  base64.resize(static_cast<size_t>(length));
-  return "data:image/png;base64," + base64;
+  return "data:image/png;base64," + base64(png);
 }
 
 std::string report_html(const std::vector<FitDocument>& documents, const ReportOptions& given) {
