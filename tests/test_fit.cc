@@ -274,6 +274,50 @@ TEST(Fit, EveryMetricCanBeMinimised) {
   }
 }
 
+// A Model written against the public model.h alone, with no batch cost of its own, is fitted
+// through the JacobianBatchCost that new_batch_cost (fit_residual.h) gives it: wrapping the
+// registered ggx, it recovers the truth and ends where ggx's own BatchCost does.
+TEST(Fit, AModelWithoutItsOwnBatchCostFitsLikeTheRegisteredOne) {
+  class PublicOnly final : public Model {
+   public:
+    explicit PublicOnly(const Model& inner) : inner_(inner) {}
+    const std::string& name() const override { return inner_.name(); }
+    const std::string& summary() const override { return inner_.summary(); }
+    const std::vector<ParamSpec>& parameters() const override { return inner_.parameters(); }
+    bool has_brdf() const override { return inner_.has_brdf(); }
+    bool energy_conserving() const override { return inner_.energy_conserving(); }
+    Rgb<double> shade(const double* values, const Vec3& l, const Vec3& v) const override {
+      return inner_.shade(values, l, v);
+    }
+    std::optional<Rgb<double>> brdf(const double* values, const Vec3& l, const Vec3& v) const override {
+      return inner_.brdf(values, l, v);
+    }
+    Rgb<double> shade_with_jacobian(const double* values, const Vec3& l, const Vec3& v,
+                                    double* jacobian) const override {
+      return inner_.shade_with_jacobian(values, l, v, jacobian);
+    }
+    const std::vector<Nesting>& nestings() const override { return inner_.nestings(); }
+
+   private:
+    const Model& inner_;
+  };
+  const Model& ggx = *find_model("ggx");
+  const PublicOnly wrapped(ggx);
+  ASSERT_NE(dynamic_cast<const BatchCostSource*>(&ggx), nullptr);
+  ASSERT_EQ(dynamic_cast<const BatchCostSource*>(&wrapped), nullptr);
+  const std::vector<double> truth = parameter_values(ggx, {"albedo=0.3,0.2,0.1", "roughness=0.4", "f0=0.05"});
+  const SampleSet data = synthetic(ggx, truth, 3000, 0.0, 9);
+  const FitResult own = fit_model(ggx, data, FitOptions{});
+  const FitResult generic = fit_model(wrapped, data, FitOptions{});
+  ASSERT_TRUE(own.ok && generic.ok) << own.error << generic.error;
+  ASSERT_EQ(generic.values.size(), truth.size());
+  for (size_t i = 0; i < truth.size(); ++i) {
+    EXPECT_NEAR(generic.values[i], truth[i], 1e-4) << i;
+    EXPECT_NEAR(generic.values[i], own.values[i], 1e-6) << i;
+  }
+  EXPECT_LT(generic.metrics.cosine, 1e-6);
+}
+
 TEST(Fit, PerChannelShapeParameters) {
   // Each channel has its own roughness: a per-channel fit recovers all three.
   const Model& ggx = *find_model("ggx");
