@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <map>
 #include <set>
+#include <type_traits>
 
 #include "brdffit/error.h"
 #include "brdffit/fit.h"
@@ -304,7 +305,7 @@ TEST(Fit, AModelWithoutItsOwnBatchCostFitsLikeTheRegisteredOne) {
   const Model& ggx = *find_model("ggx");
   const PublicOnly wrapped(ggx);
   ASSERT_NE(dynamic_cast<const BatchCostSource*>(&ggx), nullptr);
-  ASSERT_EQ(dynamic_cast<const BatchCostSource*>(&wrapped), nullptr);
+  static_assert(!std::is_base_of_v<BatchCostSource, PublicOnly>, "the wrapper has only the public interface");
   const std::vector<double> truth = parameter_values(ggx, {"albedo=0.3,0.2,0.1", "roughness=0.4", "f0=0.05"});
   const SampleSet data = synthetic(ggx, truth, 3000, 0.0, 9);
   const FitResult own = fit_model(ggx, data, FitOptions{});
