@@ -296,7 +296,7 @@ void run_compare(const CompareArgs& args) {
   check_outputs(args.results, {args.csv, args.markdown});
   const std::vector<FitDocument> documents = read_fit_documents(args.results);
   check_outputs(document_paths(documents), {args.csv, args.markdown});
-  const Metric metric = args.metric.empty() ? common_metric(documents) : metric_from(args.metric);
+  const Metric metric = args.metric.empty() ? common_metric(documents) : metric_from_name(args.metric, "--metric");
   const Comparison comparison = compare_results(documents, metric);
   if (args.json)
     say("{}\n", json_text(comparison_json(comparison), 2));
@@ -350,7 +350,7 @@ void add_batch_commands(CLI::App& app) {
   batch_cmd->add_option("input", batch->inputs, "Tables, folders of tables, or manifests (one path per line)")
       ->required();
   add_models_option(batch_cmd, batch->models, "Comma-separated models, or 'all'");
-  batch_cmd->add_option("--metric", batch->metric, "What to minimise: cosine, log, relative, l2");
+  add_minimised_metric_option(batch_cmd, batch->metric);
   batch_cmd->add_option("--loss", batch->loss, "Robust loss per sample: none, huber, cauchy");
   batch_cmd->add_flag("--per-channel", batch->per_channel, "Fit shape parameters per colour channel");
   batch->converge.add_to(batch_cmd);
@@ -372,7 +372,7 @@ void add_batch_commands(CLI::App& app) {
   CLI::App* compare_cmd = app.add_subcommand("compare", "Rank models per material and over a set of result documents");
   compare_cmd->add_option("results", compare->results, "Result documents, or folders of them (a batch's --out)")
       ->required();
-  compare_cmd->add_option("--metric", compare->metric, "Rank by: cosine, log, relative, l2 (default: the documents')");
+  add_ranking_metric_option(compare_cmd, compare->metric);
   compare_cmd->add_option("--csv", compare->csv,
                           "Write the per-model table with every material's error and rank (CSV)");
   compare_cmd->add_option("--markdown", compare->markdown, "Write the tables as Markdown");

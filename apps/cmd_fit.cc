@@ -29,72 +29,25 @@ void print_ranking(const std::vector<FitResult>& results, Metric metric) {
     if (a->ok != b->ok) return a->ok;
     return a->metrics.get(metric) < b->metrics.get(metric);
   });
-  // typical (how far off a typical sample is, relative to its value) is the column behind most
-  // poor verdicts: it explains a poor fit ranked above a good one.
-  say("{:>4}  {:<18} {:<7} {:>10} {:>10} {:>10} {:>10} {:>10} {:>8} {:>6} {:>8}\n", "rank", "model", "verdict",
-      "cosine", "log", "relative", "l2", "max", "typical", "iters", "seconds");
+  // Every metric of kMetrics: typical (how far off a typical sample is, relative to its value) is
+  // the column behind most poor verdicts: it explains a poor fit ranked above a good one.
+  std::string header = fmt::format("{:>4}  {:<18} {:<7}", "rank", "model", "verdict");
+  for (const MetricInfo& info : kMetrics) header += fmt::format(" {:>{}}", info.name, info.width);
+  say("{} {:>6} {:>8}\n", header, "iters", "seconds");
   int rank = 0;
   for (const FitResult* r : order) {
     if (!r->ok) {
       say("{:>4}  {:<18} failed: {}\n", "-", r->model, r->error);
       continue;
     }
-    const Metrics& m = r->metrics;
-    say("{:>4}  {:<18} {:<7} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g} {:>8.3g} {:>6} {:>8.2f}\n", ++rank,
-        r->model, verdict_name(r->verdict), m.cosine, m.log, m.relative, m.l2, m.max, m.typical, r->iterations,
-        r->seconds);
+    std::string row = fmt::format("{:>4}  {:<18} {:<7}", ++rank, r->model, verdict_name(r->verdict));
+    for (const MetricInfo& info : kMetrics)
+      row += fmt::format(" {:>{}.{}g}", r->metrics.*info.value, info.width, info.digits);
+    say("{} {:>6} {:>8.2f}\n", row, r->iterations, r->seconds);
     say("      {}\n", format_parameters(*r));
     print_warnings(*r, "      ");
   }
   say("ranked by the {} metric\n", metric_name(metric));
-}
-
-// One row per model: status, verdict and metrics, then for every parameter of any model in the
-// run (first appearance order) one column per component (NAME, or NAME_r, NAME_g, NAME_b: a
-// parameter that is a colour in one model and a scalar in another has both), its stddevs
-// (NAME_stddev...) and three flags, NAME_at_bound, NAME_identifiable and NAME_fixed (held by --fix)
-// (1 or 0). A model without
-// that parameter leaves its cells empty; an unknown stddev is empty too.
-std::string csv_table(const std::vector<FitResult>& results) {
-  std::vector<std::pair<std::string, size_t>> columns;  // parameter name, components
-  for (const FitResult& r : results)
-    for (const ParameterEstimate& p : r.parameters)
-      if (std::find(columns.begin(), columns.end(), std::pair(p.name, p.value.size())) == columns.end())
-        columns.emplace_back(p.name, p.value.size());
-  auto component_names = [](const std::string& name, size_t components) {
-    if (components == 1) return std::vector<std::string>{name};
-    return std::vector<std::string>{name + "_r", name + "_g", name + "_b"};
-  };
-  std::string csv = "model,status,verdict,cosine,log,relative,l2,max,iterations,seconds";
-  for (const auto& [name, components] : columns) {
-    for (const std::string& c : component_names(name, components)) csv += "," + csv_field(c);
-    for (const std::string& c : component_names(name + "_stddev", components)) csv += "," + csv_field(c);
-    csv += "," + csv_field(name + "_at_bound") + "," + csv_field(name + "_identifiable") + "," +
-           csv_field(name + "_fixed");
-  }
-  csv += "\n";
-  auto number = [](double x) { return std::isfinite(x) ? fmt::format("{:.9g}", x) : std::string(); };
-  for (const FitResult& r : results) {
-    const Metrics& m = r.metrics;
-    csv +=
-        fmt::format("{},{},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{},{:.3f}", csv_field(r.model), r.ok ? "ok" : "failed",
-                    verdict_name(r.verdict), m.cosine, m.log, m.relative, m.l2, m.max, r.iterations, r.seconds);
-    for (const auto& [name, components] : columns) {
-      const auto p = std::find_if(r.parameters.begin(), r.parameters.end(),
-                                  [&name = name, components = components](const auto& e) {
-                                    return e.name == name && e.value.size() == components;
-                                  });
-      if (p == r.parameters.end()) {
-        csv += std::string(2 * components + 3, ',');
-        continue;
-      }
-      for (double v : p->value) csv += "," + number(v);
-      for (double s : p->stddev) csv += "," + number(s);
-      csv += fmt::format(",{},{},{}", p->at_bound ? 1 : 0, p->identifiable ? 1 : 0, p->fixed ? 1 : 0);
-    }
-    csv += "\n";
-  }
-  return csv;
 }
 
 // fit's models without -m: the diffuse baseline (lambert) and its rough-surface form
@@ -146,7 +99,7 @@ void run_fit(const FitArgs& args) {
     print_ranking(results, options.metric);
   // Outputs only once every model is done, each whole or not at all.
   if (!args.out.empty()) write_file_atomic(args.out, document);
-  if (!args.csv.empty()) write_file_atomic(args.csv, csv_table(results));
+  if (!args.csv.empty()) write_file_atomic(args.csv, fit_results_csv(results));
   if (std::none_of(results.begin(), results.end(), [](const FitResult& r) { return r.ok; }))
     fail("{}: every model failed to fit", args.data);
 }
@@ -158,13 +111,12 @@ struct ScoreArgs {
   bool json = false;
 };
 
-nlohmann::json metrics_json(const Metrics& m) {
-  return {{"cosine", m.cosine}, {"log", m.log}, {"relative", m.relative}, {"l2", m.l2}, {"max", m.max}};
-}
-
+// "cosine 0.1  log 0.2  ...": every metric of kMetrics.
 std::string metrics_line(const Metrics& m) {
-  return fmt::format("cosine {:.6g}  log {:.6g}  relative {:.6g}  l2 {:.6g}  max {:.6g}", m.cosine, m.log, m.relative,
-                     m.l2, m.max);
+  std::string line;
+  for (const MetricInfo& info : kMetrics)
+    line += fmt::format("{}{} {:.6g}", line.empty() ? "" : "  ", info.name, m.*info.value);
+  return line;
 }
 
 // --published: every model the material's published fit maps onto, scored on the table.
@@ -233,7 +185,7 @@ void add_fit_commands(CLI::App& app) {
                     "Comma-separated models, or 'all' (every model `brdffit models` lists: minutes on a large "
                     "table). Default: the diffuse baseline and its rough form, the microfacet standard, the two "
                     "classics of Ngan et al. 2005 and the glTF material, seconds on a table");
-  fit_cmd->add_option("--metric", fit->metric, "What to minimise: cosine, log, relative, l2 (all are reported)");
+  add_minimised_metric_option(fit_cmd, fit->metric, " (all are reported)");
   fit_cmd->add_option("--loss", fit->loss, "Robust loss per sample: none, huber, cauchy");
   fit_cmd->add_flag("--per-channel", fit->per_channel, "Fit shape parameters per colour channel");
   fit->converge.add_to(fit_cmd);

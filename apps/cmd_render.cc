@@ -120,7 +120,7 @@ void run_report(const ReportArgs& args) {
   for (const FitDocument& document : documents) inputs.push_back(document.input_path);
   check_outputs(inputs, {args.out});
   ReportOptions options;
-  if (!args.metric.empty()) options.metric = metric_from(args.metric);
+  if (!args.metric.empty()) options.metric = metric_from_name(args.metric, "--metric");
   options.lighting = option_value([&] { return args.lighting.lighting(); });
   options.top = args.top;
   options.sphere_size = args.size;
@@ -158,7 +158,7 @@ void add_render_commands(CLI::App& app) {
   report_cmd->add_option("results", report->results, "Result documents, or folders of them (a batch's --out)")
       ->required();
   report_cmd->add_option("-o,--out", report->out, "The page to write (.html)")->required();
-  report_cmd->add_option("--metric", report->metric, "Rank by: cosine, log, relative, l2 (default: the documents')");
+  add_ranking_metric_option(report_cmd, report->metric);
   report_cmd->add_option("--top", report->top, "Picture only the best N models of each material (0: all)")
       ->check(kCountRange);
   report_cmd->add_option("--size", report->size, "Sphere size in pixels")->check(CLI::Range(16, 1024));

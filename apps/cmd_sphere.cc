@@ -225,7 +225,7 @@ void add_sphere_commands(CLI::App& app) {
   add_models_option(sphere, args->models,
                     "Comma-separated models, or 'all' (default: five that span diffuse to glossy; batch takes all, "
                     "fit six; a photograph set rarely pins down the many-parameter ones)");
-  sphere->add_option("--metric", args->metric, "What to minimise: cosine, log, relative, l2");
+  add_minimised_metric_option(sphere, args->metric);
   sphere->add_option("--loss", args->loss,
                      "Robust loss per sample: none, huber, cauchy (default huber, unlike fit and batch: photographs "
                      "hold outliers a table does not, e.g. interreflections, dust, a misjudged edge)");

@@ -120,20 +120,14 @@ inline void print_warnings(const FitResult& r, const char* indent) {
   for (const std::string& w : r.warnings) say("{}warning: {}\n", indent, w);
 }
 
-inline Metric metric_from(const std::string& name) {
-  const std::optional<Metric> metric = parse_metric(name);
-  if (!metric)
-    fail_usage("--metric: unknown metric '{}'{} (cosine, log, relative, l2)", name,
-               did_you_mean(name, {"cosine", "log", "relative", "l2"}));
-  return *metric;
+// --metric of the commands that fit (what they minimise; `note` appended to the help) and of
+// those that rank documents (default: the documents' own metric): the list from kMetrics.
+inline CLI::Option* add_minimised_metric_option(CLI::App* command, std::string& metric, const std::string& note = "") {
+  return command->add_option("--metric", metric, "What to minimise: " + minimisable_metrics_text() + note);
 }
-
-inline LossKind loss_from(const std::string& name) {
-  if (name == "none") return LossKind::None;
-  if (name == "huber") return LossKind::Huber;
-  if (name == "cauchy") return LossKind::Cauchy;
-  fail_usage("--loss: unknown loss '{}'{} (none, huber, cauchy)", name,
-             did_you_mean(name, {"none", "huber", "cauchy"}));
+inline CLI::Option* add_ranking_metric_option(CLI::App* command, std::string& metric) {
+  return command->add_option("--metric", metric,
+                             "Rank by: " + minimisable_metrics_text() + " (default: the documents')");
 }
 
 // The FitOptions of fit, sphere and batch, from their command-line values: the one place where
@@ -141,8 +135,8 @@ inline LossKind loss_from(const std::string& name) {
 inline FitOptions fit_options(const std::string& metric, const std::string& loss, bool per_channel, int threads,
                               uint64_t seed, const ConvergeArg& converge, const FixArg& fix) {
   FitOptions options;
-  options.metric = metric_from(metric);
-  options.loss = loss_from(loss);
+  options.metric = metric_from_name(metric, "--metric");
+  options.loss = loss_from_name(loss, "--loss");
   options.per_channel = per_channel;
   options.threads = threads;
   options.seed = seed;

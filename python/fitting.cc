@@ -8,6 +8,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <deque>
 #include <future>
 #include <mutex>
 #include <optional>
@@ -130,11 +131,39 @@ py::object value_or_tuple(const std::vector<double>& xs) {
   return py::tuple(py::cast(xs));
 }
 
+// Every metric of kMetrics under its name (NaN kept: a float, where the document writes null).
 py::dict metrics_dict(const Metrics& m) {
   py::dict d;
-  d["cosine"] = m.cosine, d["log"] = m.log, d["relative"] = m.relative, d["l2"] = m.l2, d["max"] = m.max;
-  d["typical"] = m.typical;
+  for (const MetricInfo& info : kMetrics) d[info.name] = m.*info.value;
   return d;
+}
+
+// "{'cosine', 'log', ...}": the keys of metrics_dict, for the docstrings.
+std::string metrics_keys_text() {
+  std::string text;
+  for (const MetricInfo& info : kMetrics) text += fmt::format("{}'{}'", text.empty() ? "{" : ", ", info.name);
+  return text + "}";
+}
+
+// '"cosine", "log", "relative" or "l2"': what fit's metric= accepts, for its docstring.
+std::string minimisable_metrics_choice() {
+  std::vector<std::string> names;
+  for (const MetricInfo& info : kMetrics)
+    if (info.minimised) names.push_back(fmt::format("\"{}\"", info.name));
+  std::string text;
+  for (size_t i = 0; i < names.size(); ++i) text += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+  return text;
+}
+
+// A docstring built at import (from kMetrics), kept for as long as the module is loaded: pybind11
+// keeps the pointer. @METRICS@ and @MINIMISABLE@ in `text` become the metrics' names.
+const char* docstring(std::string text) {
+  static std::deque<std::string> kept;
+  for (const auto& [placeholder, names] : {std::pair<std::string, std::string>{"@METRICS@", metrics_keys_text()},
+                                           {"@MINIMISABLE@", minimisable_metrics_choice()}})
+    for (size_t at = text.find(placeholder); at != std::string::npos; at = text.find(placeholder, at + names.size()))
+      text.replace(at, placeholder.size(), names);
+  return kept.emplace_back(std::move(text)).c_str();
 }
 
 const PySamples& samples_of(const py::handle& data, py::object& holder) {
@@ -157,19 +186,6 @@ std::vector<const Model*> models_from(const py::handle& models) {
   return list;
 }
 
-Metric metric_from(const std::string& name) {
-  const std::optional<Metric> metric = parse_metric(name);
-  if (!metric) fail("metric: unknown metric '{}' (cosine, log, relative, l2)", name);
-  return *metric;
-}
-
-LossKind loss_from(const std::string& name) {
-  for (const auto& [kind, spelling] :
-       {std::pair{LossKind::None, "none"}, {LossKind::Huber, "huber"}, {LossKind::Cauchy, "cauchy"}})
-    if (name == spelling) return kind;
-  fail("loss: unknown loss '{}' (none, huber, cauchy)", name);
-}
-
 PyFitResults fit(const py::handle& data, const py::handle& models, const std::string& metric, const std::string& loss,
                  double loss_scale, bool per_channel, bool converge, int threads, uint64_t seed,
                  const py::object& on_result, const py::object& on_iteration, const py::object& fix) {
@@ -178,8 +194,8 @@ PyFitResults fit(const py::handle& data, const py::handle& models, const std::st
   PyFitResults out;
   out.data = samples.set;
   out.input_path = input_path_of(holder, samples);
-  out.options.metric = metric_from(metric);
-  out.options.loss = loss_from(loss);
+  out.options.metric = metric_from_name(metric, "metric");
+  out.options.loss = loss_from_name(loss, "loss");
   out.options.loss_scale = loss_scale;
   out.options.per_channel = per_channel;
   if (converge) out.options.polish_after = SIZE_MAX;  // as the CLI's --converge
@@ -267,8 +283,9 @@ void bind_fit(py::module_& m) {
           "{name: ParameterEstimate}, in the model's parameter order.")
       .def_property_readonly(
           "metrics", [](const FitResult& r) { return metrics_dict(r.metrics); },
-          "{'cosine', 'log', 'relative', 'l2', 'max', 'typical'}: every error metric at the optimum\n"
-          "(typical: the median relative error of a sample, see metric.h).")
+          docstring(
+              "@METRICS@: every error metric at the optimum\n(typical: the median relative error of a sample, see "
+              "metric.h)."))
       .def_readonly("iterations", &FitResult::iterations, "Trust-region iterations over every stage.")
       .def_readonly("termination", &FitResult::termination, "How the last stage ended (Ceres' message).")
       .def_readonly("seconds", &FitResult::seconds, "Wall time of this model's fit.")
@@ -344,14 +361,14 @@ void bind_fit(py::module_& m) {
         py::arg("loss_scale") = 0.0, py::arg("per_channel") = false, py::arg("converge") = false,
         py::arg("threads") = 0, py::arg("seed") = 1, py::arg("on_result") = py::none(),
         py::arg("on_iteration") = py::none(), py::arg("fix") = py::none(),
-        R"(fit(data, models="all", metric="cosine", loss="none", loss_scale=0.0, per_channel=False,
+        docstring(R"(fit(data, models="all", metric="cosine", loss="none", loss_scale=0.0, per_channel=False,
     converge=False, threads=0, seed=1, on_result=None, on_iteration=None, fix=None) -> FitResults
 
 Fits models to measured samples with the library's fitter, as `brdffit fit` does.
 
 data         a Table (brdffit.read), Samples (brdffit.samples) or the path of a table.
 models       "all", "lambert,ggx", or a list of names or Model objects.
-metric       what is minimised: "cosine", "log", "relative" or "l2" (all are reported).
+metric       what is minimised: @MINIMISABLE@ (all are reported).
 loss         robust loss per sample: "none", "huber" or "cauchy"; loss_scale where it bends
              (0: automatic).
 per_channel  fit shape parameters per colour channel (colours always are).
@@ -373,14 +390,14 @@ brdffit.Error with the command line's message.
 
 The fit runs without the GIL (other Python threads go on). Ctrl-C stops it at the solver's
 next iteration (during a grid search, when the grid ends): the call raises KeyboardInterrupt
-and no result is kept.)");
+and no result is kept.)"));
 
   m.def("score", &score, py::arg("data"), py::arg("model"), py::arg("params") = py::none(),
-        R"(score(data, model, params=None) -> dict
+        docstring(R"(score(data, model, params=None) -> dict
 
 Every error metric of given parameter values on samples, as `brdffit score` computes them:
-{'cosine', 'log', 'relative', 'l2', 'max', 'typical'}. model is a name or Model with params as in
-brdffit.eval (None: the defaults), or a FitResult (its own values, params left None).)");
+@METRICS@. model is a name or Model with params as in
+brdffit.eval (None: the defaults), or a FitResult (its own values, params left None).)"));
 }
 
 }  // namespace brdffit::python

@@ -1,38 +1,76 @@
-// The error metrics (see metric.h for their definitions) and their names.
+// The error metrics (see metric.h for their definitions), their table's look-ups and the losses' names.
 #include <algorithm>
 #include <cmath>
 
+#include "brdffit/error.h"
 #include "brdffit/fit.h"
 #include "brdffit/metric.h"
+#include "brdffit/names.h"
 #include "brdffit/parallel.h"
 
 namespace brdffit {
 
-const char* metric_name(Metric metric) {
-  switch (metric) {
-    case Metric::Cosine: return "cosine";
-    case Metric::Log: return "log";
-    case Metric::Relative: return "relative";
-    case Metric::L2: return "l2";
-  }
-  return "cosine";
+const MetricInfo& metric_info(Metric metric) {
+  for (const MetricInfo& info : kMetrics)
+    if (info.minimised == metric) return info;
+  return kMetrics[0];
 }
 
+const char* metric_name(Metric metric) { return metric_info(metric).name; }
+
 std::optional<Metric> parse_metric(const std::string& name) {
-  for (Metric m : {Metric::Cosine, Metric::Log, Metric::Relative, Metric::L2})
-    if (name == metric_name(m)) return m;
+  for (const MetricInfo& info : kMetrics)
+    if (info.minimised && name == info.name) return info.minimised;
   return std::nullopt;
 }
 
-double Metrics::get(Metric metric) const {
-  switch (metric) {
-    case Metric::Cosine: return cosine;
-    case Metric::Log: return log;
-    case Metric::Relative: return relative;
-    case Metric::L2: return l2;
-  }
-  return cosine;
+std::string minimisable_metrics_text() {
+  std::string text;
+  for (const MetricInfo& info : kMetrics)
+    if (info.minimised) text += (text.empty() ? "" : ", ") + std::string(info.name);
+  return text;
 }
+
+Metric metric_from_name(const std::string& name, const std::string& what) {
+  if (const std::optional<Metric> metric = parse_metric(name)) return *metric;
+  std::vector<std::string> known;
+  for (const MetricInfo& info : kMetrics)
+    if (info.minimised) known.push_back(info.name);
+  fail_usage("{}: unknown metric '{}'{} ({})", what, name, did_you_mean(name, known), minimisable_metrics_text());
+}
+
+std::vector<Metric> judged_metrics() {
+  std::vector<Metric> judged;
+  for (const MetricInfo& info : kMetrics)
+    if (info.judged && info.minimised) judged.push_back(*info.minimised);
+  return judged;
+}
+
+namespace {
+
+constexpr std::pair<LossKind, const char*> kLosses[] = {
+    {LossKind::None, "none"}, {LossKind::Huber, "huber"}, {LossKind::Cauchy, "cauchy"}};
+
+}  // namespace
+
+const char* loss_name(LossKind loss) {
+  for (const auto& [kind, name] : kLosses)
+    if (kind == loss) return name;
+  return "none";
+}
+
+LossKind loss_from_name(const std::string& name, const std::string& what) {
+  std::vector<std::string> known;
+  for (const auto& [kind, spelling] : kLosses) {
+    if (name == spelling) return kind;
+    known.push_back(spelling);
+  }
+  std::string list;
+  for (const std::string& spelling : known) list += (list.empty() ? "" : ", ") + spelling;
+  fail_usage("{}: unknown loss '{}'{} ({})", what, name, did_you_mean(name, known), list);
+}
+
+double Metrics::get(Metric metric) const { return this->*metric_info(metric).value; }
 
 Metrics evaluate_metrics(const Model& model, const std::vector<double>& values, const SampleSet& data,
                          const std::vector<std::vector<double>>& per_channel_values) {

@@ -33,25 +33,10 @@ std::vector<double> read_numbers(const nlohmann::json& j) {
   return xs;
 }
 
-nlohmann::json metrics_json(const Metrics& m) {
-  return {{"cosine", number_or_null(m.cosine)},     {"log", number_or_null(m.log)},
-          {"relative", number_or_null(m.relative)}, {"l2", number_or_null(m.l2)},
-          {"max", number_or_null(m.max)},           {"typical", number_or_null(m.typical)}};
-}
-
 Verdict verdict_from(const std::string& name, const std::string& path) {
   for (Verdict v : {Verdict::Good, Verdict::Poor, Verdict::Failed})
     if (name == verdict_name(v)) return v;
   fail("{}: unknown verdict '{}' (good, poor or failed)", path, name);
-}
-
-const char* loss_name(LossKind loss) {
-  switch (loss) {
-    case LossKind::Huber: return "huber";
-    case LossKind::Cauchy: return "cauchy";
-    case LossKind::None: break;
-  }
-  return "none";
 }
 
 // The flattened value slots of a model: for each value, its parameter.
@@ -237,6 +222,22 @@ int count_poor(const std::vector<FitResult>& results) {
                                         [](const FitResult& r) { return r.ok && r.verdict == Verdict::Poor; }));
 }
 
+nlohmann::json metrics_json(const Metrics& metrics) {
+  nlohmann::json out = nlohmann::json::object();
+  for (const MetricInfo& info : kMetrics) out[info.name] = number_or_null(metrics.*info.value);
+  return out;
+}
+
+Metrics metrics_from_json(const nlohmann::json& j) {
+  Metrics metrics;
+  if (!j.is_object()) return metrics;
+  for (const MetricInfo& info : kMetrics) {
+    const auto value = j.find(info.name);
+    metrics.*info.value = value != j.end() && value->is_number() ? value->get<double>() : NAN;
+  }
+  return metrics;
+}
+
 nlohmann::json fit_result_json(const FitResult& result) {
   nlohmann::json parameters = nlohmann::json::object();
   for (const ParameterEstimate& p : result.parameters) {
@@ -355,10 +356,9 @@ FitDocument read_fit_document(const std::string& path) {
             r.parameters.begin(), r.parameters.end(),
             [&](const ParameterEstimate& a, const ParameterEstimate& b) { return position(a) < position(b); });
       }
-      const auto& metrics = m.at("metrics");
-      auto metric = [&](const char* key) { return metrics.at(key).is_number() ? metrics.at(key).get<double>() : NAN; };
-      r.metrics = {metric("cosine"), metric("log"), metric("relative"), metric("l2"), metric("max")};
-      if (metrics.contains("typical")) r.metrics.typical = metric("typical");
+      const nlohmann::json& metrics = m.at("metrics");
+      if (!metrics.is_object()) fail("{}.metrics: expected an object, found {}", where, metrics.type_name());
+      r.metrics = metrics_from_json(metrics);
       r.iterations = m.value("iterations", 0);
       r.termination = m.value("termination", "");
       r.seconds = m.value("seconds", 0.0);
@@ -429,6 +429,49 @@ std::vector<std::string> document_paths(const std::vector<FitDocument>& document
   std::vector<std::string> paths;
   for (const FitDocument& document : documents) paths.push_back(document.path);
   return paths;
+}
+
+std::string fit_results_csv(const std::vector<FitResult>& results) {
+  std::vector<std::pair<std::string, size_t>> columns;  // parameter name, components
+  for (const FitResult& r : results)
+    for (const ParameterEstimate& p : r.parameters)
+      if (std::find(columns.begin(), columns.end(), std::pair(p.name, p.value.size())) == columns.end())
+        columns.emplace_back(p.name, p.value.size());
+  auto component_names = [](const std::string& name, size_t components) {
+    if (components == 1) return std::vector<std::string>{name};
+    return std::vector<std::string>{name + "_r", name + "_g", name + "_b"};
+  };
+  std::string csv = "model,status,verdict";
+  for (const MetricInfo& info : kMetrics) csv += std::string(",") + info.name;
+  csv += ",iterations,seconds";
+  for (const auto& [name, components] : columns) {
+    for (const std::string& c : component_names(name, components)) csv += "," + csv_field(c);
+    for (const std::string& c : component_names(name + "_stddev", components)) csv += "," + csv_field(c);
+    csv += "," + csv_field(name + "_at_bound") + "," + csv_field(name + "_identifiable") + "," +
+           csv_field(name + "_fixed");
+  }
+  csv += "\n";
+  auto number = [](double x) { return std::isfinite(x) ? fmt::format("{:.9g}", x) : std::string(); };
+  for (const FitResult& r : results) {
+    csv += fmt::format("{},{},{}", csv_field(r.model), r.ok ? "ok" : "failed", verdict_name(r.verdict));
+    for (const MetricInfo& info : kMetrics) csv += fmt::format(",{:.9g}", r.metrics.*info.value);
+    csv += fmt::format(",{},{:.3f}", r.iterations, r.seconds);
+    for (const auto& [name, components] : columns) {
+      const auto p = std::find_if(r.parameters.begin(), r.parameters.end(),
+                                  [&name = name, components = components](const auto& e) {
+                                    return e.name == name && e.value.size() == components;
+                                  });
+      if (p == r.parameters.end()) {
+        csv += std::string(2 * components + 3, ',');
+        continue;
+      }
+      for (double v : p->value) csv += "," + number(v);
+      for (double s : p->stddev) csv += "," + number(s);
+      csv += fmt::format(",{},{},{}", p->at_bound ? 1 : 0, p->identifiable ? 1 : 0, p->fixed ? 1 : 0);
+    }
+    csv += "\n";
+  }
+  return csv;
 }
 
 std::string material_name(const FitDocument& document) {

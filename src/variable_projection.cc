@@ -77,9 +77,7 @@ double solve_linear(const Model& model, std::vector<double>& values, const std::
     }
     for (int c = 0; c < 3; ++c) {
       if (!channels[c]) continue;
-      double w = metric_weight(metric, s.weight);
-      if (metric == Metric::Relative) w /= std::pow(std::fabs(s.value[c]) + kRelativeEpsilon, 2);
-      if (metric == Metric::Log) w /= std::pow(1.0 + std::max(s.value[c], 0.0), 2);
+      const double w = metric_linear_weight(metric, s.weight, s.value[c]);
       const double target = s.value[c] - base[c];
       target_squares[c] += w * target * target;
       for (int i = 0; i < m; ++i) {
@@ -102,7 +100,7 @@ double solve_linear(const Model& model, std::vector<double>& values, const std::
     cost += x.dot(a[c] * x) - 2.0 * b[c].dot(x) + target_squares[c];
   }
   // The log metric's weights only linearise it: its cost is not this quadratic.
-  if (metric == Metric::Log) return NAN;
+  if (!metric_is_quadratic(metric)) return NAN;
   return std::isfinite(cost) ? std::max(cost, 0.0) : HUGE_VAL;
 }
 

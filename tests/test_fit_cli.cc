@@ -62,8 +62,8 @@ TEST(FitCli, WritesTheResultDocumentAndCsv) {
   const std::vector<std::vector<std::string>> rows = test::csv_rows(read_file(dir + "/r.csv"));
   ASSERT_EQ(rows.size(), 3u);
   const std::vector<std::string>& header = rows[0];
-  EXPECT_EQ(std::vector<std::string>(header.begin(), header.begin() + 13),
-            (std::vector<std::string>{"model", "status", "verdict", "cosine", "log", "relative", "l2", "max",
+  EXPECT_EQ(std::vector<std::string>(header.begin(), header.begin() + 14),
+            (std::vector<std::string>{"model", "status", "verdict", "cosine", "log", "relative", "l2", "max", "typical",
                                       "iterations", "seconds", "albedo_r", "albedo_g", "albedo_b"}));
   auto cell = [&](size_t row, const std::string& column) {
     const auto at = std::find(header.begin(), header.end(), column);
@@ -77,6 +77,9 @@ TEST(FitCli, WritesTheResultDocumentAndCsv) {
   EXPECT_GT(std::stod(cell(1, "alpha_stddev")), 0.0);
   EXPECT_EQ(cell(1, "alpha_identifiable"), "1");
   EXPECT_EQ(cell(1, "alpha_at_bound"), "0");
+  // Every metric of the document is a column (metric.h's one table feeds both), to 9 digits.
+  for (const auto& [metric, value] : ward["metrics"].items())
+    EXPECT_NEAR(std::stod(cell(1, metric)), value.get<double>(), 1e-8 * std::max(1.0, value.get<double>())) << metric;
   EXPECT_EQ(cell(2, "model"), "lambert");
   EXPECT_EQ(cell(2, "alpha"), "");
   EXPECT_NEAR(std::stod(cell(2, "albedo_r")), doc["models"][1]["parameters"]["albedo"]["value"][0].get<double>(), 1e-8);
@@ -86,7 +89,13 @@ TEST(FitCli, WritesTheResultDocumentAndCsv) {
                                    " -m ward --param albedo=0.3,0.2,0.1 --param specular=0.1 "
                                    "--param alpha=0.15 --json");
   ASSERT_EQ(score.exit_code, 0) << score.output;
-  EXPECT_LT(nlohmann::json::parse(score.output)["metrics"]["cosine"].get<double>(), 1e-12);
+  const nlohmann::json scored = nlohmann::json::parse(score.output)["metrics"];
+  EXPECT_LT(scored["cosine"].get<double>(), 1e-12);
+  // Every metric the document has: typical too, at the exact parameters the lowest bin of its
+  // histogram (10^-6, metrics.cc), where every sample's relative error is 0.
+  for (const auto& [metric, value] : ward["metrics"].items()) EXPECT_TRUE(scored.contains(metric)) << metric;
+  EXPECT_EQ(scored.size(), ward["metrics"].size());
+  EXPECT_LT(scored["typical"].get<double>(), 1.1e-6);
 }
 
 TEST(FitCli, BadInputExitsNonZeroWithAClearMessageAndWritesNothing) {

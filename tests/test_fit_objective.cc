@@ -1,9 +1,11 @@
 // The fitter's objective and the reported metrics, against values computed by hand.
 #include <gtest/gtest.h>
 
+#include "brdffit/error.h"
 #include "brdffit/fit.h"
 #include "brdffit/fit_objective.h"
 #include "brdffit/registry.h"
+#include "brdffit/result_json.h"
 #include "test_util.h"
 
 namespace brdffit {
@@ -33,6 +35,82 @@ TEST(Metrics, MatchHandComputedValuesOnATinyTable) {
   // typical: the weighted median of |p−m|/(|m| + m̄/10), m̄ = (0.4 + 3·0.8)/4 = 0.7; the sample of
   // weight 3 holds the median. Read from a histogram with 1.2 % bins.
   EXPECT_NEAR(m.typical, std::fabs(d2) / (0.8 + 0.07), 0.012 * std::fabs(d2) / 0.87);
+}
+
+// kMetrics (metric.h) is the one list parsing, naming, documents, tables and help read: each entry
+// names its own field, the minimisable ones round-trip through their names, and `get` reads the
+// field the entry names.
+TEST(Metrics, TheTableNamesEachFieldOnceAndGetReadsIt) {
+  Metrics m;
+  m.cosine = 1, m.log = 2, m.relative = 3, m.l2 = 4, m.max = 5, m.typical = 6;
+  std::vector<std::string> names, minimisable;
+  for (const MetricInfo& info : kMetrics) {
+    names.push_back(info.name);
+    if (info.minimised) {
+      minimisable.push_back(info.name);
+      EXPECT_EQ(m.get(*info.minimised), m.*info.value) << info.name;
+      EXPECT_STREQ(metric_name(*info.minimised), info.name);
+      EXPECT_EQ(parse_metric(info.name), info.minimised);
+    } else {
+      EXPECT_FALSE(parse_metric(info.name)) << info.name << " is reported, not minimised";
+    }
+  }
+  EXPECT_EQ(names, (std::vector<std::string>{"cosine", "log", "relative", "l2", "max", "typical"}));
+  EXPECT_EQ(minimisable, (std::vector<std::string>{"cosine", "log", "relative", "l2"}));
+  EXPECT_EQ(m.get(Metric::Relative), 3.0);
+  EXPECT_EQ(m.get(Metric::L2), 4.0);
+  EXPECT_EQ(minimisable_metrics_text(), "cosine, log, relative, l2");
+  EXPECT_EQ(judged_metrics(), (std::vector<Metric>{Metric::Cosine, Metric::Log, Metric::Relative, Metric::L2}));
+  // The result document's "metrics": every entry under its name, read back; a metric a document
+  // lacks (written before it existed) and null read as NaN.
+  const nlohmann::json written = metrics_json(m);
+  EXPECT_EQ(written.size(), names.size());
+  const Metrics read = metrics_from_json(written);
+  for (const MetricInfo& info : kMetrics) EXPECT_EQ(read.*info.value, m.*info.value) << info.name;
+  const Metrics partial = metrics_from_json({{"cosine", 0.5}, {"log", nullptr}});
+  EXPECT_EQ(partial.cosine, 0.5);
+  EXPECT_TRUE(std::isnan(partial.log));
+  EXPECT_TRUE(std::isnan(partial.typical));
+}
+
+// The names users type, with the command line's messages: the option named, a near miss
+// suggested, the accepted names listed.
+TEST(Metrics, MetricAndLossNamesParseWithTheCommandLinesMessages) {
+  EXPECT_EQ(metric_from_name("log", "--metric"), Metric::Log);
+  EXPECT_EQ(loss_from_name("cauchy", "--loss"), LossKind::Cauchy);
+  for (LossKind loss : {LossKind::None, LossKind::Huber, LossKind::Cauchy})
+    EXPECT_EQ(loss_from_name(loss_name(loss), "loss"), loss);
+  auto message = [](const auto& parse) {
+    try {
+      parse();
+    } catch (const UsageError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no UsageError");
+  };
+  EXPECT_EQ(message([] { metric_from_name("cosin", "--metric"); }),
+            "--metric: unknown metric 'cosin'; did you mean 'cosine'? (cosine, log, relative, l2)");
+  EXPECT_EQ(message([] { metric_from_name("max", "metric"); }),
+            "metric: unknown metric 'max' (cosine, log, relative, l2)");
+  EXPECT_EQ(message([] { loss_from_name("hubr", "--loss"); }),
+            "--loss: unknown loss 'hubr'; did you mean 'huber'? (none, huber, cauchy)");
+}
+
+// The variable projection's weight makes w'·(p−m)² the metric's weighted squared residual to
+// first order at p = m: w' = metric weight × (∂residual/∂p)², the slope taken numerically here.
+TEST(Metrics, LinearWeightIsTheMetricWeightTimesTheResidualsSlopeSquared) {
+  for (const MetricInfo& info : kMetrics) {
+    if (!info.minimised) continue;
+    const Metric metric = *info.minimised;
+    for (double measured : {0.02, 0.5, 7.0}) {
+      const double h = 1e-6 * std::max(measured, 1e-3);
+      const double slope =
+          (metric_residual(metric, measured + h, measured) - metric_residual(metric, measured - h, measured)) / (2 * h);
+      EXPECT_NEAR(metric_linear_weight(metric, 2.5, measured), metric_weight(metric, 2.5) * slope * slope,
+                  1e-6 * metric_weight(metric, 2.5) * slope * slope)
+          << info.name << " at " << measured;
+    }
+  }
 }
 
 TEST(FitObjective, CostIsTheWeightedSumOfSquaresOverTheFittedChannels) {

@@ -20,8 +20,6 @@
 
 namespace brdffit {
 
-enum class LossKind { None, Huber, Cauchy };
-
 struct FitOptions {
   Metric metric = Metric::Cosine;  // what is minimised; every metric is reported
   bool per_channel = false;        // shape parameters fitted per channel (colours always are)

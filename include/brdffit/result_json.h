@@ -70,6 +70,13 @@ const FitResult* best_result(const std::vector<FitResult>& results, Metric metri
 // How many of `results` fitted but were judged poor.
 int count_poor(const std::vector<FitResult>& results);
 
+// Every metric of kMetrics under its name, not finite ones as null ("metrics" of a model entry,
+// `brdffit score --json`).
+nlohmann::json metrics_json(const Metrics& metrics);
+// The metrics metrics_json wrote; a metric that is missing or null reads as NaN (documents
+// written before it existed lack it), as every metric of what is not an object.
+Metrics metrics_from_json(const nlohmann::json& j);
+
 nlohmann::json fit_result_json(const FitResult& result);
 
 // The whole document for one input; callers may add keys (e.g. the sphere pipeline's).
@@ -99,6 +106,14 @@ std::vector<FitDocument> read_fit_documents(const std::vector<std::string>& inpu
 
 // The files the documents were read from.
 std::vector<std::string> document_paths(const std::vector<FitDocument>& documents);
+
+// `brdffit fit --csv`: one row per model: status, verdict, every metric of kMetrics, iterations
+// and seconds, then for every parameter of any model (first appearance order) one column per
+// component (NAME, or NAME_r, NAME_g, NAME_b: a parameter that is a colour in one model and a
+// scalar in another has both), its stddevs (NAME_stddev...) and three flags, NAME_at_bound,
+// NAME_identifiable and NAME_fixed (held by --fix) (1 or 0). A model without that parameter
+// leaves its cells empty; an unknown stddev is empty too.
+std::string fit_results_csv(const std::vector<FitResult>& results);
 
 // What a document's material is called: the batch's name for it ("material"), else the name of
 // the table it was fitted to (table_material_name).
