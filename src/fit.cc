@@ -772,7 +772,7 @@ std::string format_value(const std::vector<double>& v) {
 void judge(const Model& model, const FitResult* baseline, double zero_error, Metric metric, bool isotropic_data,
            FitResult& r) {
   constexpr double kPoorRatio = 1.05, kPoorUnexplained = 0.85, kPoorTypical = 1.0, kPoorClampedUnexplained = 0.25;
-  constexpr Metric kJudgedMetrics[] = {Metric::Cosine, Metric::Log, Metric::Relative, Metric::L2};
+  const std::vector<Metric> kJudgedMetrics = judged_metrics();  // kMetrics (metric.h)
   if (!r.ok) {
     r.verdict = Verdict::Failed;
     return;
