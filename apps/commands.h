@@ -1,17 +1,26 @@
-// Each brdffit subcommand lives in its own cmd_*.cc and registers itself on the app here.
+// Each brdffit subcommand (or pair of close ones: fit and score, models and eval) lives in its own
+// cmd_*.cc and registers itself on the app here.
 // A command's callback throws brdffit::Error for bad input; main() prints it and exits 1.
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <functional>
+#include <memory>
 #include <string>
 
 namespace brdffit::cli {
+
+class BatchRanks;  // batch_ranks.h
+using BatchRanksFactory = std::function<std::unique_ptr<BatchRanks>()>;
 
 // The commands of `brdffit` (brdffit_core):
 void add_models_commands(CLI::App& app);  // cmd_models.cc: models, eval
 void add_table_commands(CLI::App& app);   // cmd_tables.cc: info, lookup, bake
 void add_fit_commands(CLI::App& app);     // cmd_fit.cc: fit, score
-void add_batch_commands(CLI::App& app);   // cmd_batch.cc: batch, compare, export
+// batch (in this process when make_ranks is empty; brdffit-mpi passes its MPI ranks: batch_ranks.h)
+void add_batch_command(CLI::App& app, BatchRanksFactory make_ranks = {});  // cmd_batch.cc
+void add_compare_command(CLI::App& app);                                   // cmd_compare.cc
+void add_export_command(CLI::App& app);                                    // cmd_export.cc
 // The commands of `brdffit-imaging` (brdffit_imaging), which `brdffit` hands them over to:
 void add_sphere_commands(CLI::App& app);  // cmd_sphere.cc: sphere, capture
 void add_render_commands(CLI::App& app);  // cmd_render.cc: render, report

@@ -76,7 +76,9 @@ void add_commands(CLI::App& app, int argc, char** argv) {
   add_models_commands(app);
   add_table_commands(app);
   add_fit_commands(app);
-  add_batch_commands(app);
+  add_batch_command(app);
+  add_compare_command(app);
+  add_export_command(app);
   add_help_command(app, argv[0]);
   // Listed in --help; never run here (argv[1] names them, handed over above).
   for (const CommandSummary& command : kImagingCommands) {
