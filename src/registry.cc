@@ -20,6 +20,7 @@
 #include "brdffit/models/ggx_aniso.h"
 #include "brdffit/models/gltf.h"
 #include "brdffit/models/gltf_clearcoat.h"
+#include "brdffit/models/gltf_sheen.h"
 #include "brdffit/models/gltf_specular.h"
 #include "brdffit/models/half_lambert.h"
 #include "brdffit/models/lafortune.h"
@@ -82,6 +83,8 @@ const std::vector<std::unique_ptr<Model>>& all_models() {
     add<models::Gltf>(list);
     add<models::GltfSpecular>(list);
     add<models::GltfClearcoat>(list);
+    add<models::GltfSheen>(list);
+    add<models::GltfClearcoatSheen>(list);
     add<models::OpenPbr>(list);
     add<models::Principled>(list);
     add<models::MitsubaPrincipled>(list);
@@ -115,11 +118,45 @@ const Model* find_two_lobes(const std::string& name) {
   if (!model) model = make_two_lobes(*first, *second);
   return model.get();
 }
+
+// Former names still accepted, and the model each now is.
+constexpr std::pair<const char*, const char*> kAliases[] = {{"gltf-clearcoat", "gltf+clearcoat"}};
+constexpr const char* kGltfExtensions[] = {"clearcoat", "sheen"};  // gltf+EXTENSION..., in the registered order
+
+// "gltf+E1+E2...": the extensions in any order (each once) name the model that registers them in
+// kGltfExtensions' order; "" when the name is no such list.
+std::string gltf_extensions_name(const std::string& name) {
+  const std::string prefix = std::string("gltf") + kLobeSeparator;
+  if (name.compare(0, prefix.size(), prefix) != 0) return "";
+  std::vector<std::string> given;
+  std::stringstream stream(name.substr(prefix.size()));
+  for (std::string part; std::getline(stream, part, kLobeSeparator);) given.push_back(part);
+  std::string canonical = "gltf";
+  size_t found = 0;
+  for (const char* extension : kGltfExtensions) {
+    const auto count = std::count(given.begin(), given.end(), extension);
+    if (count > 1) return "";
+    if (count == 1) canonical += kLobeSeparator + std::string(extension), ++found;
+  }
+  return found == given.size() ? canonical : "";
+}
 }  // namespace
 
 const Model* find_model(const std::string& name) {
-  if (name.find(kLobeSeparator) != std::string::npos) return find_two_lobes(name);
-  return find_registered(name);
+  // A registered name first: gltf+clearcoat, gltf+sheen are models, not two lobes.
+  if (const Model* m = find_registered(name)) return m;
+  for (const auto& [alias, model] : kAliases)
+    if (name == alias) return find_registered(model);
+  if (const std::string canonical = gltf_extensions_name(name); !canonical.empty()) return find_registered(canonical);
+  if (name.find(kLobeSeparator) != std::string::npos) {
+    if (name.compare(0, 5, std::string("gltf") + kLobeSeparator) == 0)
+      fail(
+          "model {}: glTF's extensions are asked as gltf+EXTENSION, each at most once, from: clearcoat, sheen "
+          "(gltf+clearcoat, gltf+sheen, gltf+clearcoat+sheen)",
+          name);
+    return find_two_lobes(name);
+  }
+  return nullptr;
 }
 
 std::string model_names() {
@@ -131,14 +168,16 @@ std::string model_names() {
 namespace {
 // The name `typed` (one model or FIRST+SECOND) most likely meant, or "" (names.h).
 std::string closest_model_name(const std::string& typed) {
+  std::vector<std::string> known{"all"};
+  for (const auto& m : all_models()) known.push_back(m->name());
   const size_t plus = typed.find(kLobeSeparator);
   if (plus != std::string::npos) {
+    if (const std::string registered = closest_name(typed, known); !registered.empty())
+      return registered;  // gltf+sheen
     const std::string first = closest_model_name(typed.substr(0, plus)),
                       second = closest_model_name(typed.substr(plus + 1));
     return first.empty() || second.empty() ? "" : first + kLobeSeparator + second;
   }
-  std::vector<std::string> known{"all"};
-  for (const auto& m : all_models()) known.push_back(m->name());
   return closest_name(typed, known);
 }
 }  // namespace
@@ -170,7 +209,7 @@ std::vector<const Model*> parse_model_list(const std::string& list) {
       const bool known = closest_model_name(name).size() > 0;
       fail_usage(
           "--models: unknown model '{}'{} (known: {}; two lobes over one Lambert base: FIRST+SECOND, e.g. "
-          "ggx+ggx)",
+          "ggx+ggx; glTF's extensions in any order: gltf+clearcoat+sheen)",
           name, known ? "; did you mean -m " + respelled + "?" : "", model_names());
     }
     if (std::find(models.begin(), models.end(), m) == models.end()) models.push_back(m);

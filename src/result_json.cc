@@ -315,6 +315,7 @@ FitDocument read_fit_document(const std::string& path) {
       r.model = m.at("model").get<std::string>();
       const Model* model = find_model(r.model);
       if (!model) fail("{}.model: '{}' is not a model of this version of brdffit", where, r.model);
+      r.model = model->name();  // a former name (gltf-clearcoat) as the model is now called
       const std::string status = m.at("status").get<std::string>();
       if (status != "ok" && status != "failed") fail("{}.status: '{}', expected ok or failed", where, status);
       r.ok = status == "ok";

@@ -51,7 +51,7 @@ std::vector<double> truth_for(const Model& model) {
 // beyond 2 %: cook-torrance's and low-cook-torrance's specular by 9 % (26 % at worst, specular
 // against f0 or eta), ggx-aniso's f0 by 4.7 %, ggx's f0 by 2.6 %, gltf's baseColor by 2 %, and
 // beckmann's and gaussian's albedo by 1-2 % under a peak of 1.2·specular = 400-800. These take
-// glossy widths as in the published fits of MERL (α or m 0.1-0.3; Löw's B 50, not 280; gltf-clearcoat's coat
+// glossy widths as in the published fits of MERL (α or m 0.1-0.3; Löw's B 50, not 280; gltf+clearcoat's coat
 // α = 0.04 over its base's 0.16), where
 // hundreds of samples see the lobe, and gaussian a peak a few times the albedo; wrap a contrast
 // of 3, whose falloff separates it from wrap (at contrast 1.4 wrap scattered by 1.3 %).
@@ -69,7 +69,9 @@ std::vector<double> recovery_truth(const Model& model) {
       {"cook-torrance", {"m=0.3"}},
       {"ggx", {"roughness=0.4"}},
       {"gltf", {"roughness=0.4"}},
-      {"gltf-clearcoat", {"roughness=0.4", "clearcoatRoughnessFactor=0.2"}},
+      {"gltf+clearcoat", {"roughness=0.4", "clearcoatRoughnessFactor=0.2"}},
+      {"gltf+sheen", {"roughness=0.4"}},
+      {"gltf+clearcoat+sheen", {"roughness=0.4", "clearcoatRoughnessFactor=0.2"}},
       {"ggx-aniso", {"alpha_x=0.1", "alpha_y=0.2"}},
       {"ward", {"alpha=0.15"}},
       {"wrap", {"contrast=3"}}};

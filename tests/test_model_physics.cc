@@ -48,9 +48,13 @@ struct NotReciprocal {
   std::vector<std::string> params;
 };
 const std::map<std::string, NotReciprocal> kNotReciprocal = {
-    {"gltf-clearcoat",
+    {"gltf+clearcoat",
      {"KHR_materials_clearcoat mixes base and coat by the Fresnel of n·v alone (its Discussion: NdotV, not VdotH)",
-      {"clearcoatFactor=0.6"}}}};
+      {"clearcoatFactor=0.6"}}},
+    {"gltf+clearcoat+sheen",
+     {"as gltf+clearcoat: the coat over the sheen (gltf+sheen alone is reciprocal: its albedo scaling is the min over "
+      "n·v and n·l)",
+      {"clearcoatFactor=0.6", "sheenColorFactor=0.5,0.5,0.5"}}}};
 
 TEST(Reciprocity, EveryBrdfIsReciprocalAtGenericPairsUpToGrazing) {
   // Every model with a BRDF is reciprocal by construction (each header says why: Ward's
@@ -303,9 +307,17 @@ const std::map<std::string, Excess> kNotEnergyConserving = {
       {"baseColor=1", "roughness=0.01"},
       80}},
     {"gltf-specular", {"as gltf", {"baseColor=1", "roughness=0.01"}, 80}},
-    {"gltf-clearcoat",
+    {"gltf+clearcoat",
      {"as gltf under the coat, which mixes it with a lobe of albedo at most 1",
       {"baseColor=1", "roughness=0.01", "clearcoatFactor=0.5"},
+      80}},
+    {"gltf+clearcoat+sheen",
+     {"as gltf+clearcoat with the sheen off",
+      {"baseColor=1", "roughness=0.01", "clearcoatFactor=0.5", "sheenColorFactor=0,0,0"},
+      80}},
+    {"gltf+sheen",
+     {"as gltf with the sheen off (sheenColorFactor 0)",
+      {"baseColor=1", "roughness=0.01", "sheenColorFactor=0,0,0"},
       80}},
     {"lafortune", {"specular goes up to 10 to hold Ngan's published values", {"specular=10"}, 30}},
     {"low-ashikhmin-shirley", {"specular goes up to 5 (Löw's values)", {"specular=5", "eta=12"}, 0}},

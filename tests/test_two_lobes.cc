@@ -105,6 +105,32 @@ TEST(TwoLobes, UnknownOrUnsuitableComponentsAreRefused) {
   EXPECT_EQ(parse_model_list("all").size(), all_models().size()) << "'all' stays the single-lobe set";
 }
 
+// '+' also joins glTF's extensions to the core: a registered name is looked up before two lobes,
+// the extensions may come in any order, the former name gltf-clearcoat still works, and an
+// extension brdffit does not fit is refused naming those it does.
+TEST(TwoLobes, GltfExtensionNamesAreModelsNotLobes) {
+  const Model* coat = find_model("gltf+clearcoat");
+  ASSERT_NE(coat, nullptr);
+  EXPECT_NE(coat->find_parameter("clearcoatFactor"), nullptr);
+  EXPECT_EQ(find_model("gltf-clearcoat"), coat);
+  ASSERT_NE(find_model("gltf+sheen"), nullptr);
+  EXPECT_NE(find_model("gltf+sheen")->find_parameter("sheenColorFactor"), nullptr);
+  const Model* both = find_model("gltf+clearcoat+sheen");
+  ASSERT_NE(both, nullptr);
+  EXPECT_EQ(find_model("gltf+sheen+clearcoat"), both);
+  EXPECT_EQ(both->num_values(), 11);
+  for (const std::string name : {"gltf+anisotropy", "gltf+sheen+sheen", "gltf+ggx", "gltf+sheen+iridescence"}) {
+    try {
+      find_model(name);
+      ADD_FAILURE() << name;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("from: clearcoat, sheen"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_EQ(parse_model_list("gltf,gltf-clearcoat,gltf+clearcoat,gltf+sheen").size(), 3u) << "an alias is its model";
+  EXPECT_THROW(parse_model_list("gltf+shene"), UsageError);
+}
+
 // JacobianBatchCost on a registered model gives the same cost, gradient and Gauss-Newton
 // matrix (RᵀR = JᵀJ, Rᵀy = Jᵀr) as the templated BatchCost, for each metric and with a loss.
 TEST(TwoLobes, JacobianBatchCostMatchesBatchCost) {

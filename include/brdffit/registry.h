@@ -13,8 +13,11 @@ namespace brdffit {
 
 // Every model brdffit knows, in a stable order.
 const std::vector<std::unique_ptr<Model>>& all_models();
-// The model with this CLI name, or nullptr. "FIRST+SECOND" names two lobes over one Lambert
-// base (two_lobes.h), built on first use; throws Error when a component is not such a lobe.
+// The model with this CLI name, or nullptr. A registered name is taken first (gltf+clearcoat,
+// gltf+sheen and gltf+clearcoat+sheen are models; "gltf+" followed by glTF extensions in any order
+// names the one that has them, and the former name gltf-clearcoat is gltf+clearcoat). Otherwise
+// "FIRST+SECOND" names two lobes over one Lambert base (two_lobes.h), built on first use; throws
+// Error when a component is not such a lobe, or for gltf+ with an extension brdffit does not fit.
 const Model* find_model(const std::string& name);
 // The names of all models, comma separated (for messages).
 std::string model_names();

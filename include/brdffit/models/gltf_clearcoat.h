@@ -19,6 +19,9 @@
 // larger of its two layers' albedos, the coat's V·D lobe at most 1, and the core material 1.35
 // with baseColor 1, metallic 0 and roughness 0.01 at θo = 80°.
 //
+// Named gltf+clearcoat (glTF's extensions are joined to `gltf` by '+': gltf+sheen, gltf+clearcoat+sheen in
+// models/gltf_sheen.h); gltf-clearcoat, its first name, is still accepted (registry.cc).
+//
 // Nesting (exact): `gltf` with clearcoatFactor 0 ("the whole clearcoat layer is disabled", whatever
 // clearcoatRoughnessFactor). clearcoatRoughnessFactor's lower bound is gltf's roughness bound
 // 0.01 (the extension's default 0 is a mirror, a lobe no table resolves).
@@ -28,8 +31,24 @@
 
 namespace brdffit::models {
 
+// mix(material, clearcoat_brdf, clearcoat · clearcoat_fresnel) of the extension, for l and v above the
+// surface: what the coat makes of the material under it (the core material here, the sheen's in
+// gltf+clearcoat+sheen).
+template <class T>
+Rgb<T> gltf_clearcoat_mix(const Rgb<T>& material, const T& clearcoat, const T& clearcoat_roughness, const Vec3& l,
+                          const Vec3& v) {
+  constexpr double kClearcoatIor = 1.5;  // the extension's, fixed
+  const double r = (1.0 - kClearcoatIor) / (1.0 + kClearcoatIor), f0 = r * r;
+  const double clearcoat_fresnel = f0 + (1.0 - f0) * std::pow(1.0 - std::abs(v.z()), 5);  // n_c = n
+  const T clearcoat_brdf = gltf_specular_vd(clearcoat_roughness, l, v);
+  const T weight = clearcoat * clearcoat_fresnel;
+  Rgb<T> f;
+  for (int c = 0; c < 3; ++c) f[c] = (1.0 - weight) * material[c] + weight * clearcoat_brdf;
+  return f;
+}
+
 struct GltfClearcoat {
-  static constexpr const char* kName = "gltf-clearcoat";
+  static constexpr const char* kName = "gltf+clearcoat";  // also accepted as gltf-clearcoat (registry.cc)
   static constexpr const char* kSummary =
       "core glTF + KHR_materials_clearcoat: metallic-roughness under a GGX coat (ior 1.5), mixed by c·F(n·v)";
   static constexpr bool kEnergyConserving = false;  // as gltf's base; the coat alone reflects at most 1
@@ -37,7 +56,6 @@ struct GltfClearcoat {
   static_assert(int{kBaseColor} == int{Gltf::kBaseColor} && int{kMetallic} == int{Gltf::kMetallic} &&
                     int{kRoughness} == int{Gltf::kRoughness},
                 "the base's values are laid out as gltf's, so that Gltf::brdf evaluates them");
-  static constexpr double kClearcoatIor = 1.5;  // the extension's, fixed
 
   static std::vector<ParamSpec> parameters() {
     return {gltf_base_color_param(),
@@ -52,16 +70,9 @@ struct GltfClearcoat {
 
   template <class T>
   static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
-    const double nl = l.z(), nv = v.z();  // n_c = n
-    Rgb<T> f(T(0.0), T(0.0), T(0.0));
-    if (nl <= 0.0 || nv <= 0.0) return f;
-    const Rgb<T> material = Gltf::brdf(p, l, v);  // the core material, of this model's first five values
-    const double r = (1.0 - kClearcoatIor) / (1.0 + kClearcoatIor), f0 = r * r;
-    const double clearcoat_fresnel = f0 + (1.0 - f0) * std::pow(1.0 - std::abs(nv), 5);
-    const T clearcoat_brdf = gltf_specular_vd(p[kClearcoatRoughness], l, v);
-    const T weight = p[kClearcoat] * clearcoat_fresnel;
-    for (int c = 0; c < 3; ++c) f[c] = (1.0 - weight) * material[c] + weight * clearcoat_brdf;
-    return f;
+    if (l.z() <= 0.0 || v.z() <= 0.0) return Rgb<T>(T(0.0), T(0.0), T(0.0));
+    // The core material, of this model's first five values.
+    return gltf_clearcoat_mix(Gltf::brdf(p, l, v), p[kClearcoat], p[kClearcoatRoughness], l, v);
   }
 
   static std::vector<Nesting> nestings() {

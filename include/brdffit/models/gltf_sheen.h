@@ -1,0 +1,308 @@
+// glTF 2.0 metallic-roughness (models/gltf.h) under the sheen of KHR_materials_sheen
+// (KhronosGroup/glTF, extensions/2.0/Khronos/KHR_materials_sheen, the ratified text: "Sheen" and
+// its "Implementation Notes"), with the formulas written there:
+//
+//   f = f_sheen + material · sheenAlbedoScaling
+//   material  = the core glTF BRDF (Appendix B, models/gltf.h) of baseColor, metallic, roughness
+//   f_sheen   = sheenColor · D_S · V_S                           (sheen Fresnel omitted, F = 1)
+//   D_S       = (2 + 1/α) · sin²θh^(1/(2α)) / (2π),   α = sheenRoughness²    ("Charlie", Conty & Kulla 2017)
+//   V_S       = 1 / ((1 + Λ(n·v) + Λ(n·l)) · 4 n·v n·l)        ("Charlie" visibility, the spec's first choice)
+//   Λ(μ)      = exp(L(μ)) for μ < 0.5, exp(2 L(0.5) - L(1 - μ)) else,
+//   L(x)      = a/(1 + b x^c) + d x + e, a..e mixed between the spec's two sets by (1 - α)²
+//   sheenAlbedoScaling = min(1 - max3(sheenColor)·E(n·v), 1 - max3(sheenColor)·E(n·l))
+// where E(μ) is the sheen's directional albedo: ∫ D_S V_S (n·l) dω_l for sheenColor 1, which the
+// spec says to look up in a table (Enterprise PBR 2021x, §6.2.3, for the Charlie visibility) at
+// x = n·v, y = sheenRoughness. Textures are not fitted (factors only).
+//
+// The albedo scaling: the spec's full form, min over both directions, not its "simplified" one
+// with E(n·v) alone. Both are the spec's; the full one is what the spec gives first, what three.js
+// computes for a direct light (1 - max3·max(E(n·v), E(n·l)) is the same number), and it keeps
+// the model reciprocal: f_sheen, Appendix B and the min over {l, v} are each symmetric in l and
+// v, so f(l, v) = f(v, l). E: integrated here from its definition (the spec's D_S and V_S),
+// once per process, on a table of 49 n·v × 37 sheenRoughness nodes (√(n·v) from √0.001 to 1,
+// sheenRoughness 0.1 to 1; Gauss-Legendre in √(n·l) × midpoints in φ, 32 × 32) with Catmull-Rom
+// interpolation in both, so the fit differentiates it in sheenRoughness: within 1e-3 of the
+// integral (5e-4 away from E = 1). Two departures, both where the spec's numbers stop being a
+// reflectance: E is read at n·v = 0.001 below it (Λ's fit makes μ·Λ(μ) fall to 0 and E grow
+// without bound as μ → 0); and E is at most 1: with Conty and Kulla's fitted Λ, E exceeds 1 for
+// sheenRoughness below 0.26 near grazing (1.15 at sheenRoughness 0.2 and n·v 0.03), where
+// 1 - max3·E would make the base negative. three.js clamps its E to [0, 1] too.
+//
+// Not energy conserving, only because the base is not (gltf.h): sheenColor 0 is gltf.
+//
+// Nesting (exact): `gltf` with sheenColorFactor 0 ("the whole sheen layer is disabled").
+// sheenRoughnessFactor's lower bound is 0.1 (the extension's default 0 is a lobe at exactly
+// grazing half vectors; at 0.1 the sheen is within 10° of grazing already, D_S ∝ sin¹⁰⁰θh).
+//
+// gltf+clearcoat+sheen (GltfClearcoatSheen): both extensions, the clear coat layered on top of the
+// sheen as KHR_materials_sheen says ("clearcoat is layered on top of sheen"): the coat's mix
+// (models/gltf_clearcoat.h) applied to this model's f.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include "brdffit/models/gltf.h"
+#include "brdffit/models/gltf_clearcoat.h"
+
+namespace brdffit::models {
+
+// The Charlie distribution D_S of the spec for sheenRoughness s (α = s²) at n·h.
+template <class T>
+T sheen_charlie_d(const T& sheen_roughness, double nh) {
+  const T inv_alpha = 1.0 / (sheen_roughness * sheen_roughness);
+  return (2.0 + inv_alpha) * pow_of_direction_term(1.0 - nh * nh, 0.5 * inv_alpha) / (2.0 * kPi);
+}
+
+// The spec's Λ of the Charlie visibility at a cosine μ in (0, 1] for α = sheenRoughness².
+template <class T>
+T sheen_charlie_lambda(double mu, const T& alpha) {
+  using std::exp;
+  const T t = (1.0 - alpha) * (1.0 - alpha);
+  const auto mix = [&t](double x, double y) { return x + (y - x) * t; };
+  const T a = mix(21.5473, 25.3245), b = mix(3.82987, 3.32435), c = mix(0.19823, 0.16801), d = mix(-1.97760, -1.27393),
+          e = mix(-4.32054, -4.85967);
+  const auto l = [&](double x) { return a / (1.0 + b * pow_of_direction_term(x, c)) + d * x + e; };
+  return mu < 0.5 ? exp(l(mu)) : exp(2.0 * l(0.5) - l(1.0 - mu));
+}
+
+// D_S·V_S for l and v above the surface (sheenColor 1).
+template <class T>
+T sheen_charlie_dv(const T& sheen_roughness, const Vec3& l, const Vec3& v) {
+  const double nl = l.z(), nv = v.z();
+  const T alpha = sheen_roughness * sheen_roughness;
+  const T visibility =
+      1.0 / ((1.0 + sheen_charlie_lambda(nv, alpha) + sheen_charlie_lambda(nl, alpha)) * (4.0 * nv * nl));
+  return sheen_charlie_d(sheen_roughness, half_vector(l, v).z()) * visibility;
+}
+
+// E(μ, sheenRoughness), the directional albedo of D_S·V_S, tabulated once (see the head of this file).
+class SheenAlbedo {
+ public:
+  static constexpr int kMuNodes = 49, kRoughnessNodes = 37;
+  static constexpr double kMinMu = 0.001, kMinRoughness = 0.1;
+
+  static const SheenAlbedo& table() {
+    static const SheenAlbedo instance;
+    return instance;
+  }
+
+  // E from its definition, by quadrature: Gauss-Legendre in u = √(n·l) (Λ's x^c is steep at n·l → 0),
+  // midpoints in φ over [0, π] (the integrand is even in φ).
+  static double integrate(double mu, double sheen_roughness, int nodes) {
+    std::vector<double> u, w;
+    gauss_legendre(nodes, u, w);
+    const Vec3 v(std::sqrt(1.0 - mu * mu), 0.0, mu);
+    const double alpha = sheen_roughness * sheen_roughness, lambda_v = sheen_charlie_lambda(mu, alpha);
+    double sum = 0.0;
+    for (int i = 0; i < nodes; ++i) {
+      const double nl = u[i] * u[i], sin_l = std::sqrt(1.0 - nl * nl);
+      // D_S·V_S·(n·l) = D_S / ((1 + Λ(n·v) + Λ(n·l)) · 4 n·v): Λ(n·l) once per ring.
+      const double ring_factor = 1.0 / ((1.0 + lambda_v + sheen_charlie_lambda(nl, alpha)) * 4.0 * mu);
+      double ring = 0.0;
+      for (int j = 0; j < nodes; ++j) {
+        const double phi = kPi * (j + 0.5) / nodes;
+        const Vec3 l(sin_l * std::cos(phi), sin_l * std::sin(phi), nl);
+        ring += sheen_charlie_d(sheen_roughness, half_vector(l, v).z());
+      }
+      sum += w[i] * 2.0 * u[i] * ring * ring_factor * (2.0 * kPi / nodes);
+    }
+    return sum;
+  }
+
+  // E at μ (clamped to [kMinMu, 1]) and a sheenRoughness in [kMinRoughness, 1], at most 1.
+  template <class T>
+  T operator()(double mu, const T& sheen_roughness) const {
+    const double x = std::clamp((std::sqrt(std::clamp(mu, kMinMu, 1.0)) - kMinT) / kStepT, 0.0, kMuNodes - 1.0);
+    const int i = std::min(static_cast<int>(x), kMuNodes - 2);
+    const T y = (sheen_roughness - kMinRoughness) / kStepRoughness;
+    const int j = std::clamp(static_cast<int>(std::floor(value_of(y))), 0, kRoughnessNodes - 2);
+    std::array<double, 4> column;
+    for (int k = 0; k < 4; ++k) column[k] = catmull_rom(&nodes_[j + k][i], x - i);  // rows j-1 .. j+2
+    const T e = catmull_rom(column.data(), T(y - double(j)));
+    return e > T(1.0) ? T(1.0) : (e < T(0.0) ? T(0.0) : e);
+  }
+
+ private:
+  static constexpr double kMinT = 0.031622776601683794;  // √kMinMu
+  static constexpr double kStepT = (1.0 - kMinT) / (kMuNodes - 1);
+  static constexpr double kStepRoughness = (1.0 - kMinRoughness) / (kRoughnessNodes - 1);
+  static constexpr int kQuadrature = 32;
+
+  // nodes_[j + 1][i + 1] = E at t_i = kMinT + i·kStepT, s_j = kMinRoughness + j·kStepRoughness, with one node
+  // beyond each end: in roughness integrated there (0.075 and 1.025 are valid roughnesses), in t (below 0,
+  // above 1) extrapolated quadratically, which is what Catmull-Rom's end segments need.
+  SheenAlbedo() {
+    for (int j = -1; j <= kRoughnessNodes; ++j) {
+      for (int i = 0; i < kMuNodes; ++i) {
+        const double t = kMinT + i * kStepT;
+        nodes_[j + 1][i + 1] = integrate(std::min(t * t, 1.0), kMinRoughness + j * kStepRoughness, kQuadrature);
+      }
+      auto& row = nodes_[j + 1];
+      row[0] = 3.0 * row[1] - 3.0 * row[2] + row[3];
+      row[kMuNodes + 1] = 3.0 * row[kMuNodes] - 3.0 * row[kMuNodes - 1] + row[kMuNodes - 2];
+    }
+  }
+
+  // Catmull-Rom through p[0..3] between p[1] and p[2], at fraction t.
+  template <class T>
+  static T catmull_rom(const double* p, const T& t) {
+    return p[1] + 0.5 * t *
+                      (p[2] - p[0] +
+                       t * (2.0 * p[0] - 5.0 * p[1] + 4.0 * p[2] - p[3] + t * (3.0 * (p[1] - p[2]) + p[3] - p[0])));
+  }
+
+  // Nodes and weights of n-point Gauss-Legendre quadrature on [0, 1] (Newton on the Legendre polynomial).
+  static void gauss_legendre(int n, std::vector<double>& nodes, std::vector<double>& weights) {
+    nodes.assign(n, 0.0);
+    weights.assign(n, 0.0);
+    for (int i = 0; i < n; ++i) {
+      double x = std::cos(kPi * (i + 0.75) / (n + 0.5)), derivative = 1.0;
+      for (int iteration = 0; iteration < 100; ++iteration) {
+        double p0 = 1.0, p1 = x;
+        for (int k = 2; k <= n; ++k) {
+          const double p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
+          p0 = p1;
+          p1 = p2;
+        }
+        derivative = n * (x * p1 - p0) / (x * x - 1.0);
+        const double step = p1 / derivative;
+        x -= step;
+        if (std::abs(step) < 1e-15) break;
+      }
+      nodes[i] = 0.5 * (1.0 - x);
+      weights[i] = 1.0 / ((1.0 - x * x) * derivative * derivative);
+    }
+  }
+
+  double nodes_[kRoughnessNodes + 2][kMuNodes + 2];
+};
+
+// f_sheen + material · sheenAlbedoScaling, for l and v above the surface.
+template <class T>
+Rgb<T> gltf_sheen_layer(const Rgb<T>& material, const T* sheen_color, const T& sheen_roughness, const Vec3& l,
+                        const Vec3& v) {
+  const SheenAlbedo& albedo = SheenAlbedo::table();
+  T strongest = sheen_color[0];  // max3(sheenColor)
+  for (int c = 1; c < 3; ++c)
+    if (sheen_color[c] > strongest) strongest = sheen_color[c];
+  const T scaling_v = 1.0 - strongest * albedo(v.z(), sheen_roughness),
+          scaling_l = 1.0 - strongest * albedo(l.z(), sheen_roughness);
+  const T scaling = scaling_v < scaling_l ? scaling_v : scaling_l;
+  const T sheen = sheen_charlie_dv(sheen_roughness, l, v);
+  Rgb<T> f;
+  for (int c = 0; c < 3; ++c) f[c] = sheen_color[c] * sheen + material[c] * scaling;
+  return f;
+}
+
+inline ParamSpec gltf_sheen_color_param() {
+  // Not linear: max3(sheenColor) scales the base.
+  return {"sheenColorFactor",
+          3,
+          0.0,
+          1.0,
+          0.5,
+          "KHR_materials_sheen sheenColorFactor (linear RGB): the sheen's colour (0: the core material)",
+          Role::SpecularColour};
+}
+inline ParamSpec gltf_sheen_roughness_param() {
+  return {"sheenRoughnessFactor",
+          1,
+          SheenAlbedo::kMinRoughness,
+          1.0,
+          0.5,
+          "KHR_materials_sheen sheenRoughnessFactor; the Charlie distribution's alpha is roughness²",
+          Role::Roughness,
+          false,
+          false,
+          Spacing::Log};
+}
+
+struct GltfSheen {
+  static constexpr const char* kName = "gltf+sheen";
+  static constexpr const char* kSummary =
+      "core glTF + KHR_materials_sheen: metallic-roughness under a Charlie sheen, the base scaled by 1 - max(sheen)·E";
+  static constexpr bool kEnergyConserving = false;  // as gltf's base
+  enum : int { kBaseColor = 0, kMetallic = 3, kRoughness = 4, kSheenColor = 5, kSheenRoughness = 8, kNumValues = 9 };
+  static_assert(int{kBaseColor} == int{Gltf::kBaseColor} && int{kMetallic} == int{Gltf::kMetallic} &&
+                    int{kRoughness} == int{Gltf::kRoughness},
+                "the base's values are laid out as gltf's, so that Gltf::brdf evaluates them");
+
+  static std::vector<ParamSpec> parameters() {
+    return {gltf_base_color_param(), gltf_metallic_param(), gltf_roughness_param(), gltf_sheen_color_param(),
+            gltf_sheen_roughness_param()};
+  }
+
+  template <class T>
+  static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
+    if (l.z() <= 0.0 || v.z() <= 0.0) return Rgb<T>(T(0.0), T(0.0), T(0.0));
+    return gltf_sheen_layer(Gltf::brdf(p, l, v), p + kSheenColor, p[kSheenRoughness], l, v);
+  }
+
+  static std::vector<Nesting> nestings() {
+    return {{"gltf",
+             {{"baseColor", "baseColor"}, {"metallic", "metallic"}, {"roughness", "roughness"}},
+             {{"sheenColorFactor", 0.0}},
+             /*exact=*/true,
+             "sheenColorFactor 0 disables the sheen: the core material"}};
+  }
+};
+
+// Both extensions: the coat over the sheen over the core material.
+struct GltfClearcoatSheen {
+  static constexpr const char* kName = "gltf+clearcoat+sheen";
+  static constexpr const char* kSummary =
+      "core glTF + KHR_materials_sheen + KHR_materials_clearcoat: the coat's mix over the sheen over the base";
+  static constexpr bool kEnergyConserving = false;  // as gltf's base
+  enum : int {
+    kBaseColor = 0,
+    kMetallic = 3,
+    kRoughness = 4,
+    kClearcoat = 5,
+    kClearcoatRoughness = 6,
+    kSheenColor = 7,
+    kSheenRoughness = 10,
+    kNumValues = 11
+  };
+  static_assert(int{kClearcoat} == int{GltfClearcoat::kClearcoat} &&
+                    int{kClearcoatRoughness} == int{GltfClearcoat::kClearcoatRoughness},
+                "the base's and the coat's values are laid out as gltf+clearcoat's");
+
+  static std::vector<ParamSpec> parameters() {
+    std::vector<ParamSpec> params = GltfClearcoat::parameters();
+    params.push_back(gltf_sheen_color_param());
+    params.push_back(gltf_sheen_roughness_param());
+    return params;
+  }
+
+  template <class T>
+  static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
+    if (l.z() <= 0.0 || v.z() <= 0.0) return Rgb<T>(T(0.0), T(0.0), T(0.0));
+    const Rgb<T> sheened = gltf_sheen_layer(Gltf::brdf(p, l, v), p + kSheenColor, p[kSheenRoughness], l, v);
+    return gltf_clearcoat_mix(sheened, p[kClearcoat], p[kClearcoatRoughness], l, v);
+  }
+
+  static std::vector<Nesting> nestings() {
+    const std::vector<Nesting::Copy> base = {
+        {"baseColor", "baseColor"}, {"metallic", "metallic"}, {"roughness", "roughness"}};
+    auto with_coat = base, with_sheen = base;
+    with_coat.push_back({"clearcoatFactor", "clearcoatFactor"});
+    with_coat.push_back({"clearcoatRoughnessFactor", "clearcoatRoughnessFactor"});
+    with_sheen.push_back({"sheenColorFactor", "sheenColorFactor"});
+    with_sheen.push_back({"sheenRoughnessFactor", "sheenRoughnessFactor"});
+    return {{"gltf+clearcoat",
+             with_coat,
+             {{"sheenColorFactor", 0.0}},
+             /*exact=*/true,
+             "sheenColorFactor 0 disables the sheen: the coat over the core material"},
+            {"gltf+sheen",
+             with_sheen,
+             {{"clearcoatFactor", 0.0}},
+             /*exact=*/true,
+             "clearcoatFactor 0 disables the coat: the sheen over the core material"}};
+  }
+};
+
+}  // namespace brdffit::models
