@@ -57,8 +57,8 @@ void add_export_command(CLI::App& app) {
       "export", "Write a fit as the renderer's material: glTF 2.0, OpenPBR (MaterialX) or Mitsuba 3 principled");
   export_cmd->add_option("result", export_args->result, "Result document (from fit or batch)")->required();
   add_models_option(export_cmd, export_args->model,
-                    "The fit to export (default: the format's own: gltf, gltf-specular or gltf-clearcoat, openpbr, "
-                    "mitsuba-principled; "
+                    "The fit to export (default: the format's own: gltf, gltf-specular, gltf+clearcoat, gltf+sheen or "
+                    "gltf+clearcoat+sheen, openpbr, mitsuba-principled; "
                     "another fit is converted and its error reported)");
   export_cmd->add_option("--format", export_args->format, "gltf, openpbr or mitsuba (default: from --out's extension)");
   export_cmd->add_option("-o,--out", export_args->out, "File to write (.gltf, .mtlx, .xml)")->required();

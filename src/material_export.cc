@@ -30,6 +30,17 @@ constexpr double kDiffuseThrough = 1.0 - kDielectricF0;  // the light the dielec
 constexpr int kFixedDirectionPairs = 20000;              // MaterialExport::converted_vs_fit
 constexpr uint64_t kFixedDirectionsSeed = 1;
 
+// The models glTF holds unchanged: the core, and the core with KHR extensions (gltf-specular's
+// KHR_materials_ior and _specular, the layers of KHR_materials_clearcoat and _sheen).
+const std::vector<std::string>& gltf_models() {
+  static const std::vector<std::string> models = {"gltf", "gltf-specular", "gltf+clearcoat", "gltf+sheen",
+                                                  "gltf+clearcoat+sheen"};
+  return models;
+}
+bool is_gltf_model(const std::string& name) {
+  return std::find(gltf_models().begin(), gltf_models().end(), name) != gltf_models().end();
+}
+
 // The metallic value that matches a single (luminance) albedo a and f0 f; see the header.
 double solve_metallic(double a, double f) {
   const double qa = kDielectricF0 * kDiffuseThrough, qb = -(a + kDiffuseThrough * f), qc = a;
@@ -45,9 +56,9 @@ double solve_metallic(double a, double f) {
 // F0 = specular_weight·((ior-1)/(ior+1))² (tinted by specular_color where the model has one).
 // Each target keeps what it can hold of it: gltf-specular all three; openpbr the ior, folding the
 // weight into it (same F0) and the tint; principled and mitsuba-principled F0 as specular = F0/0.08;
-// gltf and gltf-clearcoat none (ior 1.5). A source without them has weight 1 and tint 1. A
-// gltf-clearcoat source's core is its base: the coat is what a conversion leaves out (and its
-// error shows).
+// gltf and its extension models none (ior 1.5). A source without them has weight 1 and tint 1. A
+// gltf+clearcoat, gltf+sheen or gltf+clearcoat+sheen source's core is its base: the coat and the
+// sheen are what a conversion leaves out (and its error shows).
 struct Core {
   Rgb<double> base_color = Rgb<double>::Constant(0.5);
   double metallic = 0.0, roughness = 0.5, ior = 1.5;
@@ -87,7 +98,7 @@ Core core_of(const std::string& model_name, const std::vector<double>& values) {
     core.base_color = mr.base_color;
     core.metallic = mr.metallic;
     core.roughness = mr.roughness;
-  } else if (model_name == "gltf" || model_name == "gltf-specular" || model_name == "gltf-clearcoat") {
+  } else if (is_gltf_model(model_name)) {
     core.base_color = colour_at(model, values, "baseColor");
     core.metallic = value_at(model, values, "metallic");
     core.roughness = value_at(model, values, "roughness");
@@ -114,7 +125,8 @@ Core core_of(const std::string& model_name, const std::vector<double>& values) {
     core.ior = ior_from_f0(0.08 * value_at(model, values, "specular"));
   } else {
     fail(
-        "no conversion from the {} model: export converts ggx, gltf, gltf-specular, gltf-clearcoat, openpbr, "
+        "no conversion from the {} model: export converts ggx, gltf, gltf-specular, gltf+clearcoat, gltf+sheen, "
+        "gltf+clearcoat+sheen, openpbr, "
         "principled and mitsuba-principled fits",
         model_name);
   }
@@ -130,8 +142,10 @@ std::vector<double> values_from_core(const Model& model, const Core& core) {
   };
   const Rgb<double> base = core.base_color.cwiseMax(0.0).cwiseMin(1.0),
                     tint = core.specular_color.cwiseMax(0.0).cwiseMin(1.0);
-  if (name == "gltf" || name == "gltf-specular" || name == "gltf-clearcoat") {  // gltf-clearcoat: no coat
+  if (is_gltf_model(name)) {  // the core holds no coat or sheen: gltf+clearcoat's and gltf+sheen's layers off
     set_colour(model, values, "baseColor", base);
+    if (model.find_parameter("clearcoatFactor")) set_value(model, values, "clearcoatFactor", 0.0);
+    if (model.find_parameter("sheenColorFactor")) set_colour(model, values, "sheenColorFactor", Rgb<double>::Zero());
     set_value(model, values, "metallic", clamp_to("metallic", core.metallic));
     set_value(model, values, "roughness", clamp_to("roughness", core.roughness));
     if (name == "gltf-specular") {
@@ -156,8 +170,10 @@ std::vector<double> values_from_core(const Model& model, const Core& core) {
     set_value(model, values, "roughness", clamp_to("roughness", core.roughness));
     set_value(model, values, "specular", clamp_to("specular", dielectric_f0(core) / 0.08));
   } else {
-    fail("{} is not a renderer material (gltf, gltf-specular, gltf-clearcoat, openpbr, principled, mitsuba-principled)",
-         name);
+    fail(
+        "{} is not a renderer material (gltf, gltf-specular, gltf+clearcoat, gltf+sheen, gltf+clearcoat+sheen, "
+        "openpbr, principled, mitsuba-principled)",
+        name);
   }
   return values;
 }
@@ -270,7 +286,7 @@ MaterialFormat material_format(const std::string& name, const std::string& path)
 
 std::vector<std::string> native_models(MaterialFormat format) {
   switch (format) {
-    case MaterialFormat::Gltf: return {"gltf", "gltf-specular", "gltf-clearcoat"};
+    case MaterialFormat::Gltf: return gltf_models();
     case MaterialFormat::OpenPbr: return {"openpbr"};
     case MaterialFormat::Mitsuba: return {"mitsuba-principled"};
   }
@@ -283,8 +299,9 @@ namespace {
 // every parameter by name (principled → mitsuba-principled) instead of through the
 // metallic-roughness core. (A nesting of lambert or ggx is a fitting start, not a material.)
 const Nesting* nesting_of(const Model& target, const std::string& source_model) {
-  static const std::vector<std::string> kRendererMaterials = {"gltf",    "gltf-specular", "gltf-clearcoat",
-                                                              "openpbr", "principled",    "mitsuba-principled"};
+  static const std::vector<std::string> kRendererMaterials = {"gltf",       "gltf-specular",        "gltf+clearcoat",
+                                                              "gltf+sheen", "gltf+clearcoat+sheen", "openpbr",
+                                                              "principled", "mitsuba-principled"};
   if (std::find(kRendererMaterials.begin(), kRendererMaterials.end(), source_model) == kRendererMaterials.end())
     return nullptr;
   for (const Nesting& nesting : target.nestings())
@@ -357,7 +374,8 @@ MaterialExport export_material(const FitDocument& document, const ExportRequest&
     if (!fit)
       fail(
           "{}: has no {} fit; fit with -m {} to export it unchanged, or convert another fit with -m "
-          "(ggx, gltf, gltf-specular, gltf-clearcoat, openpbr, principled, mitsuba-principled)",
+          "(ggx, gltf, gltf-specular, gltf+clearcoat, gltf+sheen, gltf+clearcoat+sheen, openpbr, principled, "
+          "mitsuba-principled)",
           document.path, natives.front(), natives.front());
   } else {
     fit = find_result(document.results, request.model);
@@ -431,8 +449,9 @@ MaterialExport export_material(const FitDocument& document, const ExportRequest&
 
 std::string gltf_document(const Material& material, const nlohmann::json& provenance) {
   const Model& model = *find_model(material.model);
-  if (material.model != "gltf" && material.model != "gltf-specular" && material.model != "gltf-clearcoat")
-    fail("glTF holds a gltf, gltf-specular or gltf-clearcoat material, not {}", material.model);
+  if (!is_gltf_model(material.model))
+    fail("glTF holds a gltf, gltf-specular, gltf+clearcoat, gltf+sheen or gltf+clearcoat+sheen material, not {}",
+         material.model);
   const std::vector<double>& v = material.values;
   const Rgb<double> base = colour_at(model, v, "baseColor");
   nlohmann::json gltf_material = {{"name", material.name},
@@ -449,11 +468,18 @@ std::string gltf_document(const Material& material, const nlohmann::json& proven
                                      {"specularColorFactor", number_array(colour_at(model, v, "specularColor"))}}}};
     extensions_used = {"KHR_materials_ior", "KHR_materials_specular"};
   }
-  if (material.model == "gltf-clearcoat") {  // the model's parameters carry the extension's names
-    gltf_material["extensions"] = {{"KHR_materials_clearcoat",
-                                    {{"clearcoatFactor", value_at(model, v, "clearcoatFactor")},
-                                     {"clearcoatRoughnessFactor", value_at(model, v, "clearcoatRoughnessFactor")}}}};
-    extensions_used = {"KHR_materials_clearcoat"};
+  // The layers' parameters carry their extensions' names.
+  if (model.find_parameter("clearcoatFactor")) {
+    gltf_material["extensions"]["KHR_materials_clearcoat"] = {
+        {"clearcoatFactor", value_at(model, v, "clearcoatFactor")},
+        {"clearcoatRoughnessFactor", value_at(model, v, "clearcoatRoughnessFactor")}};
+    extensions_used.push_back("KHR_materials_clearcoat");
+  }
+  if (model.find_parameter("sheenColorFactor")) {
+    gltf_material["extensions"]["KHR_materials_sheen"] = {
+        {"sheenColorFactor", number_array(colour_at(model, v, "sheenColorFactor"))},
+        {"sheenRoughnessFactor", value_at(model, v, "sheenRoughnessFactor")}};
+    extensions_used.push_back("KHR_materials_sheen");
   }
 
   // One buffer: positions, normals (the same unit vectors), then 16-bit indices.

@@ -226,9 +226,9 @@ void read_fresnel_one(const Model& model, Material& material, double specular,
   }
 }
 
-// KHR_materials_clearcoat's factors (defaults 0) into the gltf-clearcoat model. A roughness below
-// the model's bound (the extension's default 0) is clamped with a warning, silently when the
-// factor is 0: the coat is then off, whatever its roughness.
+// KHR_materials_clearcoat's factors (defaults 0) into the gltf+clearcoat model (or gltf+clearcoat+sheen). A roughness
+// below the model's bound (the extension's default 0) is clamped with a warning, silently when the factor is 0: the
+// coat is then off, whatever its roughness.
 void read_clearcoat(const Model& model, Material& material, const nlohmann::json& coat, const std::string& path,
                     const std::string& where, std::vector<std::string>& warnings) {
   const double factor =
@@ -247,15 +247,41 @@ void read_clearcoat(const Model& model, Material& material, const nlohmann::json
       warnings.push_back(fmt::format("{}: {} has a {}: only the factors are scored", path, where, texture));
 }
 
-// One entry of a glTF file's "materials" (an object). A material with KHR_materials_clearcoat is
-// read as gltf-clearcoat, unless it also has KHR_materials_ior or KHR_materials_specular, which
-// gltf-specular holds (no model holds both: the coat is then reported as left out).
+// KHR_materials_sheen's factors (defaults 0) into the gltf+sheen model (or gltf+clearcoat+sheen). A
+// roughness below the model's bound 0.1 (the extension's default 0) is clamped with a warning,
+// silently when the colour is 0: the sheen is then off, whatever its roughness.
+void read_sheen(const Model& model, Material& material, const nlohmann::json& sheen, const std::string& path,
+                const std::string& where, std::vector<std::string>& warnings) {
+  const std::vector<double> colour = json_numbers(sheen.value("sheenColorFactor", nlohmann::json{0.0, 0.0, 0.0}), 3,
+                                                  where + " sheenColorFactor", path);
+  const double roughness = json_numbers(sheen.value("sheenRoughnessFactor", nlohmann::json(0.0)), 1,
+                                        where + " sheenRoughnessFactor", path)[0];
+  set_parameter(model, material, "sheenColorFactor", colour, path, warnings);
+  if (std::all_of(colour.begin(), colour.end(), [](double c) { return c == 0.0; })) {
+    const ParamSpec& p = *model.find_parameter("sheenRoughnessFactor");
+    material.values[model.offset_of(p.name)] = std::clamp(roughness, p.lower, p.upper);
+  } else {
+    set_parameter(model, material, "sheenRoughnessFactor", {roughness}, path, warnings);
+  }
+  for (const char* texture : {"sheenColorTexture", "sheenRoughnessTexture"})
+    if (sheen.contains(texture))
+      warnings.push_back(fmt::format("{}: {} has a {}: only the factors are scored", path, where, texture));
+}
+
+// One entry of a glTF file's "materials" (an object). A material with KHR_materials_clearcoat,
+// KHR_materials_sheen or both is read as gltf+clearcoat, gltf+sheen or gltf+clearcoat+sheen, unless
+// it also has KHR_materials_ior or KHR_materials_specular, which gltf-specular holds (no model holds
+// both: the coat and sheen are then reported as left out).
 Material read_gltf_material(const nlohmann::json& m, int index, const std::string& path,
                             std::vector<std::string>& warnings) {
   const nlohmann::json extensions = m.value("extensions", nlohmann::json::object());
   const bool has_specular = extensions.contains("KHR_materials_ior") || extensions.contains("KHR_materials_specular");
   const bool has_clearcoat = !has_specular && extensions.contains("KHR_materials_clearcoat");
-  const Model& model = *find_model(has_specular ? "gltf-specular" : has_clearcoat ? "gltf-clearcoat" : "gltf");
+  const bool has_sheen = !has_specular && extensions.contains("KHR_materials_sheen");
+  const Model& model = *find_model(has_specular    ? "gltf-specular"
+                                   : has_clearcoat ? (has_sheen ? "gltf+clearcoat+sheen" : "gltf+clearcoat")
+                                   : has_sheen     ? "gltf+sheen"
+                                                   : "gltf");
   Material material{m.value("name", fmt::format("material {}", index)), model.name(), model.default_values()};
   // glTF's defaults where a factor is absent: baseColor 1, metallic 1, roughness 1.
   const nlohmann::json pbr = m.value("pbrMetallicRoughness", nlohmann::json::object());
@@ -287,12 +313,13 @@ Material read_gltf_material(const nlohmann::json& m, int index, const std::strin
       set_parameter(model, material, "ior", {ior}, path, warnings);
   }
   if (has_clearcoat) read_clearcoat(model, material, extensions["KHR_materials_clearcoat"], path, where, warnings);
+  if (has_sheen) read_sheen(model, material, extensions["KHR_materials_sheen"], path, where, warnings);
   for (const char* texture : {"baseColorTexture", "metallicRoughnessTexture"})
     if (pbr.contains(texture))
       warnings.push_back(fmt::format("{}: {} has a {}: only the factors are scored", path, where, texture));
   for (const auto& [name, value] : extensions.items())
     if (name != "KHR_materials_ior" && name != "KHR_materials_specular" &&
-        !(has_clearcoat && name == "KHR_materials_clearcoat"))
+        !(has_clearcoat && name == "KHR_materials_clearcoat") && !(has_sheen && name == "KHR_materials_sheen"))
       warnings.push_back(
           fmt::format("{}: {} uses {}, which the {} model it is read as leaves out", path, where, name, model.name()));
   return material;

@@ -72,6 +72,15 @@ const std::vector<std::string> kGltfSpecular = {
     "baseColor=0.8,0.5,0.25", "metallic=0.3", "roughness=0.45", "ior=1.7", "specular=0.8", "specularColor=1,0.9,0.7"};
 const std::vector<std::string> kGltfClearcoat = {"baseColor=0.8,0.5,0.25", "metallic=0.3", "roughness=0.45",
                                                  "clearcoatFactor=0.7", "clearcoatRoughnessFactor=0.15"};
+const std::vector<std::string> kGltfSheen = {"baseColor=0.8,0.5,0.25", "metallic=0.3", "roughness=0.45",
+                                             "sheenColorFactor=0.6,0.3,0.2", "sheenRoughnessFactor=0.35"};
+const std::vector<std::string> kGltfClearcoatSheen = {"baseColor=0.8,0.5,0.25",
+                                                      "metallic=0.3",
+                                                      "roughness=0.45",
+                                                      "clearcoatFactor=0.7",
+                                                      "clearcoatRoughnessFactor=0.15",
+                                                      "sheenColorFactor=0.6,0.3,0.2",
+                                                      "sheenRoughnessFactor=0.35"};
 const std::vector<std::string> kOpenPbr = {"base_color=0.7,0.4,0.2",     "base_metalness=0.2",
                                            "base_diffuse_roughness=0.3", "specular_color=1,0.8,0.6",
                                            "specular_roughness=0.35",    "specular_ior=1.6"};
@@ -100,12 +109,14 @@ void expect_round_trip(const std::string& doc, const std::string& out, const std
 
 TEST(ExportCli, EachFormatWritesItsModelsFitUnchangedAndReadsBack) {
   const std::string dir = test::fresh_dir("export-round-trip");
-  const std::string doc = test::write_document(
-      dir + "/gold.json", "/data/gold.binary",
-      {fit_of("ggx", {"albedo=0.1", "roughness=0.3", "f0=0.9,0.6,0.3"}),
-       fit_of("gltf", {"baseColor=0.9,0.6,0.3", "metallic=0.85", "roughness=0.3"}),
-       fit_of("gltf-specular", kGltfSpecular), fit_of("gltf-clearcoat", kGltfClearcoat), fit_of("openpbr", kOpenPbr),
-       fit_of("principled", kPrincipled), fit_of("mitsuba-principled", kMitsubaPrincipled)});
+  const std::string doc =
+      test::write_document(dir + "/gold.json", "/data/gold.binary",
+                           {fit_of("ggx", {"albedo=0.1", "roughness=0.3", "f0=0.9,0.6,0.3"}),
+                            fit_of("gltf", {"baseColor=0.9,0.6,0.3", "metallic=0.85", "roughness=0.3"}),
+                            fit_of("gltf-specular", kGltfSpecular), fit_of("gltf+clearcoat", kGltfClearcoat),
+                            fit_of("gltf+sheen", kGltfSheen), fit_of("gltf+clearcoat+sheen", kGltfClearcoatSheen),
+                            fit_of("openpbr", kOpenPbr), fit_of("principled", kPrincipled),
+                            fit_of("mitsuba-principled", kMitsubaPrincipled)});
   // glTF: core by default (what most viewers read), the KHR extensions from the gltf-specular fit.
   expect_round_trip(doc, dir + "/gold.gltf", "gltf", {"baseColor=0.9,0.6,0.3", "metallic=0.85", "roughness=0.3"}, 0.0);
   const nlohmann::json core = nlohmann::json::parse(read_file(dir + "/gold.gltf"));
@@ -117,12 +128,29 @@ TEST(ExportCli, EachFormatWritesItsModelsFitUnchangedAndReadsBack) {
   EXPECT_EQ(ext["extensionsUsed"], nlohmann::json({"KHR_materials_ior", "KHR_materials_specular"}));
   EXPECT_EQ(ext["materials"][0]["extensions"]["KHR_materials_ior"]["ior"], 1.7);
   // The second lobe: KHR_materials_clearcoat's two factors, exactly, and nothing else.
-  expect_round_trip(doc, dir + "/gold-clearcoat.gltf", "gltf-clearcoat", kGltfClearcoat, 0.0, " -m gltf-clearcoat");
+  expect_round_trip(doc, dir + "/gold-clearcoat.gltf", "gltf+clearcoat", kGltfClearcoat, 0.0, " -m gltf+clearcoat");
   const nlohmann::json coat = nlohmann::json::parse(read_file(dir + "/gold-clearcoat.gltf"));
   EXPECT_EQ(coat["extensionsUsed"], nlohmann::json({"KHR_materials_clearcoat"}));
   EXPECT_EQ(coat["materials"][0]["extensions"],
             nlohmann::json::parse(
                 R"({"KHR_materials_clearcoat": {"clearcoatFactor": 0.7, "clearcoatRoughnessFactor": 0.15}})"));
+  // The former name still picks the coat's fit.
+  expect_round_trip(doc, dir + "/gold-coat-alias.gltf", "gltf+clearcoat", kGltfClearcoat, 0.0, " -m gltf-clearcoat");
+  // The sheen: KHR_materials_sheen's colour and roughness, exactly; with the coat, both extensions.
+  expect_round_trip(doc, dir + "/gold-sheen.gltf", "gltf+sheen", kGltfSheen, 0.0, " -m gltf+sheen");
+  const nlohmann::json sheen = nlohmann::json::parse(read_file(dir + "/gold-sheen.gltf"));
+  EXPECT_EQ(sheen["extensionsUsed"], nlohmann::json({"KHR_materials_sheen"}));
+  EXPECT_EQ(sheen["materials"][0]["extensions"],
+            nlohmann::json::parse(
+                R"({"KHR_materials_sheen": {"sheenColorFactor": [0.6, 0.3, 0.2], "sheenRoughnessFactor": 0.35}})"));
+  expect_round_trip(doc, dir + "/gold-both.gltf", "gltf+clearcoat+sheen", kGltfClearcoatSheen, 0.0,
+                    " -m gltf+sheen+clearcoat");
+  const nlohmann::json both = nlohmann::json::parse(read_file(dir + "/gold-both.gltf"));
+  EXPECT_EQ(both["extensionsUsed"], nlohmann::json({"KHR_materials_clearcoat", "KHR_materials_sheen"}));
+  EXPECT_EQ(
+      both["materials"][0]["extensions"],
+      nlohmann::json::parse(R"({"KHR_materials_clearcoat": {"clearcoatFactor": 0.7, "clearcoatRoughnessFactor": 0.15},
+                                      "KHR_materials_sheen": {"sheenColorFactor": [0.6, 0.3, 0.2], "sheenRoughnessFactor": 0.35}})"));
   // OpenPBR and Mitsuba: nine significant digits in the files, so these short decimals come back exactly.
   expect_round_trip(doc, dir + "/gold.mtlx", "openpbr", kOpenPbr, 0.0);
   // Mitsuba: the mitsuba-principled fit (what the plugin evaluates), not Burley's principled one.
@@ -558,8 +586,9 @@ TEST(ExportTools, KhronosValidatorFindsNothing) {
   const std::string doc =
       test::write_document(dir + "/hostile.json", kHostileInput,
                            {fit_of("gltf", {"baseColor=0.9,0.6,0.3", "metallic=1", "roughness=0.3"}),
-                            fit_of("gltf-specular", kGltfSpecular), fit_of("gltf-clearcoat", kGltfClearcoat)});
-  for (const std::string model : {"gltf", "gltf-specular", "gltf-clearcoat"}) {
+                            fit_of("gltf-specular", kGltfSpecular), fit_of("gltf+clearcoat", kGltfClearcoat),
+                            fit_of("gltf+sheen", kGltfSheen), fit_of("gltf+clearcoat+sheen", kGltfClearcoatSheen)});
+  for (const std::string model : {"gltf", "gltf-specular", "gltf+clearcoat", "gltf+sheen", "gltf+clearcoat+sheen"}) {
     const std::string out = dir + "/" + model + ".gltf";
     const auto run = test::run_cli("export " + doc + " -m " + model + " --out " + out);
     ASSERT_EQ(run.exit_code, 0) << run.output;
@@ -710,7 +739,7 @@ TEST(MaterialImport, GltfClearcoatIsReadWithTheExtensionsDefaults) {
   const Material coated = read_material(
       write_gltf_with_extensions(dir + "/coated.gltf", R"({"KHR_materials_clearcoat": {"clearcoatFactor": 0.4}})"), "",
       warnings);
-  EXPECT_EQ(coated.model, "gltf-clearcoat");
+  EXPECT_EQ(coated.model, "gltf+clearcoat");
   EXPECT_EQ(value_of(coated, "baseColor", 1), 0.5);
   EXPECT_EQ(value_of(coated, "clearcoatFactor"), 0.4);
   // The default roughness 0 (a mirror coat) is below the model's 0.01: clamped, and said.
@@ -722,7 +751,7 @@ TEST(MaterialImport, GltfClearcoatIsReadWithTheExtensionsDefaults) {
   const Material off =
       read_material(write_gltf_with_extensions(dir + "/off.gltf", R"({"KHR_materials_clearcoat": {}})"), "", warnings);
   EXPECT_TRUE(warnings.empty()) << warnings.front();
-  EXPECT_EQ(off.model, "gltf-clearcoat");
+  EXPECT_EQ(off.model, "gltf+clearcoat");
   EXPECT_EQ(value_of(off, "clearcoatFactor"), 0.0);
   // With KHR_materials_specular too, no model holds both: gltf-specular, and the coat said to be left out.
   const Material both = read_material(
@@ -735,6 +764,43 @@ TEST(MaterialImport, GltfClearcoatIsReadWithTheExtensionsDefaults) {
   EXPECT_NE(warnings[0].find("uses KHR_materials_clearcoat, which the gltf-specular model it is read as leaves out"),
             std::string::npos)
       << warnings[0];
+}
+
+TEST(MaterialImport, GltfSheenIsReadWithTheExtensionsDefaults) {
+  // KHR_materials_sheen: sheenColorFactor defaults to [0, 0, 0], sheenRoughnessFactor to 0.
+  const std::string dir = test::fresh_dir("import-sheen");
+  std::vector<std::string> warnings;
+  const Material sheen =
+      read_material(write_gltf_with_extensions(dir + "/sheen.gltf",
+                                               R"({"KHR_materials_sheen": {"sheenColorFactor": [0.3, 0.2, 0.1]}})"),
+                    "", warnings);
+  EXPECT_EQ(sheen.model, "gltf+sheen");
+  EXPECT_EQ(value_of(sheen, "baseColor", 1), 0.5);
+  EXPECT_EQ(value_of(sheen, "sheenColorFactor", 0), 0.3);
+  EXPECT_EQ(value_of(sheen, "sheenColorFactor", 2), 0.1);
+  // The default roughness 0 (fibres exactly along the normal) is below the model's 0.1: clamped, and said.
+  EXPECT_EQ(value_of(sheen, "sheenRoughnessFactor"), 0.1);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("sheenRoughnessFactor of 'm' is 0, outside"), std::string::npos) << warnings[0];
+  // Colour 0: the sheen is off, its roughness no error, and the material is the core's (sheenColor 0 nests gltf).
+  warnings.clear();
+  const Material off =
+      read_material(write_gltf_with_extensions(dir + "/off.gltf", R"({"KHR_materials_sheen": {}})"), "", warnings);
+  EXPECT_TRUE(warnings.empty()) << warnings.front();
+  EXPECT_EQ(off.model, "gltf+sheen");
+  EXPECT_EQ(value_of(off, "sheenColorFactor", 1), 0.0);
+  // With the coat too: gltf+clearcoat+sheen, every factor read.
+  const Material both = read_material(
+      write_gltf_with_extensions(dir + "/both.gltf", R"({"KHR_materials_clearcoat": {"clearcoatFactor": 0.4,
+          "clearcoatRoughnessFactor": 0.2}, "KHR_materials_sheen": {"sheenColorFactor": [0.3, 0.2, 0.1],
+          "sheenRoughnessFactor": 0.6}})"),
+      "", warnings);
+  EXPECT_TRUE(warnings.empty()) << warnings.front();
+  EXPECT_EQ(both.model, "gltf+clearcoat+sheen");
+  EXPECT_EQ(value_of(both, "clearcoatFactor"), 0.4);
+  EXPECT_EQ(value_of(both, "clearcoatRoughnessFactor"), 0.2);
+  EXPECT_EQ(value_of(both, "sheenColorFactor", 1), 0.2);
+  EXPECT_EQ(value_of(both, "sheenRoughnessFactor"), 0.6);
 }
 
 // The cosine-weighted mean albedo of an openpbr material over the hemisphere, by the midpoint rule

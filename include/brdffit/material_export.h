@@ -2,8 +2,9 @@
 //
 // A fit of a renderer's own BRDF is written unchanged:
 //   glTF 2.0 (.gltf)        the `gltf` fit (core metallic-roughness), the `gltf-specular` fit
-//                           (with KHR_materials_ior and KHR_materials_specular) or the
-//                           `gltf-clearcoat` fit (with KHR_materials_clearcoat), on a small
+//                           (with KHR_materials_ior and KHR_materials_specular), the
+//                           `gltf+clearcoat`, `gltf+sheen` or `gltf+clearcoat+sheen` fit (with
+//                           KHR_materials_clearcoat, KHR_materials_sheen or both), on a small
 //                           sphere mesh so that any viewer shows it;
 //   OpenPBR (.mtlx)         the `openpbr` fit as a MaterialX document with an open_pbr_surface;
 //   Mitsuba 3 (.xml)        the `mitsuba-principled` fit as Mitsuba's `principled` BSDF (the model is
@@ -56,11 +57,12 @@ const char* material_format_name(MaterialFormat format);
 // path's extension (.gltf, .mtlx, .xml); throws Error otherwise, and when the name and the
 // extension imply different formats.
 MaterialFormat material_format(const std::string& name, const std::string& path);
-// The models a format writes unchanged (gltf: gltf, gltf-specular and gltf-clearcoat).
+// The models a format writes unchanged (gltf: gltf, gltf-specular, gltf+clearcoat, gltf+sheen,
+// gltf+clearcoat+sheen).
 std::vector<std::string> native_models(MaterialFormat format);
 
-// A material of one of the renderer models (gltf, gltf-specular, gltf-clearcoat, openpbr, principled,
-// mitsuba-principled).
+// A material of one of the renderer models (gltf, gltf-specular, gltf+clearcoat, gltf+sheen,
+// gltf+clearcoat+sheen, openpbr, principled, mitsuba-principled).
 struct Material {
   std::string name;
   std::string model;
@@ -108,10 +110,10 @@ std::string mitsuba_document(const Material& material, const std::string& commen
 constexpr uint64_t kMaxMaterialFileBytes = uint64_t{16} << 20;
 
 // Materials read back from a .gltf, .mtlx or Mitsuba .xml file, each as the matching model
-// (gltf, gltf-specular or gltf-clearcoat, openpbr, mitsuba-principled). Inputs the model does not have (textures,
-// coat, ...) or holds fixed are reported in `warnings`. Throws Error naming the file when it
-// is not one of these formats, is larger than kMaxMaterialFileBytes or holds no material. Time
-// and memory are linear in the file's size.
+// (gltf, gltf-specular, gltf+clearcoat, gltf+sheen or gltf+clearcoat+sheen, openpbr, mitsuba-principled). Inputs the
+// model does not have (textures, coat, ...) or holds fixed are reported in `warnings`. Throws Error naming the file
+// when it is not one of these formats, is larger than kMaxMaterialFileBytes or holds no material. Time and memory are
+// linear in the file's size.
 std::vector<Material> read_materials(const std::string& path, std::vector<std::string>& warnings);
 // The material called `name` (empty: the file's only material); throws Error naming the file
 // and the materials it has otherwise.
