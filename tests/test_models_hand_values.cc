@@ -350,18 +350,21 @@ double gltf_specular_vd(const Pair& p, double roughness) {
   return vis * a2 / (kPi * denom * denom);
 }
 
+// The core glTF BRDF of Appendix B with baseColor kBase.
+double gltf_core(const Pair& p, int c, double metallic, double roughness) {
+  const double w = pow5(1 - std::abs(p.v.dot(p.h))), vd = gltf_specular_vd(p, roughness);
+  const double fr = 0.04 + 0.96 * w;
+  const double dielectric = (1 - fr) * kBase[c] / kPi + fr * vd;
+  const double metal = (kBase[c] + (1 - kBase[c]) * w) * vd;
+  return (1 - metallic) * dielectric + metallic * metal;
+}
+
 TEST(HandValues, Gltf) {
   // glTF 2.0 Appendix B: mix(dielectric, metal, metallic) with
   //   dielectric = mix(baseColor/π, V·D, 0.04 + 0.96 (1 - |v·h|)^5)     (fresnel_mix, ior 1.5)
   //   metal = (baseColor + (1 - baseColor)(1 - |v·h|)^5) V·D           (conductor_fresnel)
-  const double metallic = 0.37, roughness = 0.58;
-  expect_brdf("gltf", {"baseColor=0.62,0.35,0.17", "metallic=0.37", "roughness=0.58"}, [&](const Pair& p, int c) {
-    const double w = pow5(1 - std::abs(p.v.dot(p.h))), vd = gltf_specular_vd(p, roughness);
-    const double fr = 0.04 + 0.96 * w;
-    const double dielectric = (1 - fr) * kBase[c] / kPi + fr * vd;
-    const double metal = (kBase[c] + (1 - kBase[c]) * w) * vd;
-    return (1 - metallic) * dielectric + metallic * metal;
-  });
+  expect_brdf("gltf", {"baseColor=0.62,0.35,0.17", "metallic=0.37", "roughness=0.58"},
+              [&](const Pair& p, int c) { return gltf_core(p, c, 0.37, 0.58); });
 }
 
 TEST(HandValues, GltfSpecular) {
@@ -443,15 +446,6 @@ double sheen_albedo(double mu, double sheen_roughness) {
     }
   }
   return sum * (2 * kPi / kPhi) / kS;
-}
-
-// The core glTF BRDF of Appendix B (HandValues.Gltf) with baseColor kBase.
-double gltf_core(const Pair& p, int c, double metallic, double roughness) {
-  const double w = pow5(1 - std::abs(p.v.dot(p.h))), vd = gltf_specular_vd(p, roughness);
-  const double fr = 0.04 + 0.96 * w;
-  const double dielectric = (1 - fr) * kBase[c] / kPi + fr * vd;
-  const double metal = (kBase[c] + (1 - kBase[c]) * w) * vd;
-  return (1 - metallic) * dielectric + metallic * metal;
 }
 
 TEST(HandValues, GltfSheen) {
