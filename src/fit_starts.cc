@@ -1,0 +1,141 @@
+// The fitter's starts, evaluated with doubles on the subsample: a multi-start grid over the shape
+// parameters, and a coordinate search from its best points (fit_stages.h).
+#include <algorithm>
+#include <cmath>
+
+#include "brdffit/fit_stages.h"
+#include "brdffit/parallel.h"
+#include "brdffit/variable_projection.h"
+
+namespace brdffit::fitting {
+
+namespace {
+
+// One shape parameter's value at coordinate t ∈ (0, 1) of its range, log-spaced for
+// exponents and roughness.
+double at_fraction(const ParamSpec& p, double t) {
+  const double value =
+      p.spacing == Spacing::Log ? p.lower * std::pow(p.upper / p.lower, t) : p.lower + t * (p.upper - p.lower);
+  return p.integer ? std::round(value) : value;
+}
+
+// Candidate values for one shape parameter: n points spread over its range (log-spaced for
+// exponents and roughness), or every integer for integer parameters.
+std::vector<double> grid_axis(const ParamSpec& p, int n) {
+  std::vector<double> axis;
+  if (p.integer) {
+    const int lo = static_cast<int>(std::ceil(p.lower)), hi = static_cast<int>(std::floor(p.upper));
+    const int step = std::max(1, (hi - lo + 1) / std::max(n, 1));
+    for (int k = lo; k <= hi; k += step) axis.push_back(k);
+    return axis;
+  }
+  for (int k = 0; k < n; ++k) axis.push_back(at_fraction(p, (k + 0.5) / n));
+  return axis;
+}
+
+// The i-th point (from 1) of the Halton sequence in base `base`: a low-discrepancy coordinate in (0, 1).
+double halton(size_t i, int base) {
+  double value = 0.0, digit = 1.0 / base;
+  for (; i > 0; i /= base, digit /= base) value += digit * static_cast<double>(i % base);
+  return value;
+}
+
+}  // namespace
+
+double solved_cost(const Model& model, std::vector<double>& values, const std::vector<Sample>& samples, Metric metric,
+                   const Channels& channels) {
+  const double cost = solve_linear(model, values, samples, metric, channels);
+  return std::isnan(cost) ? cost_of(model, values, samples, metric, channels, nullptr) : cost;
+}
+
+std::vector<Start> grid_starts(const Model& model, const std::vector<double>& initial,
+                               const std::vector<Sample>& samples, Metric metric, const Channels& channels,
+                               const FitOptions& options, bool colours) {
+  std::vector<const ParamSpec*> axes_params;
+  for (const ParamSpec& p : model.parameters())
+    if (!p.linear && (colours || p.channels == 1)) axes_params.push_back(&p);
+  const int dims = static_cast<int>(axes_params.size());
+  const int per_axis =
+      dims == 0 ? 1 : std::clamp(static_cast<int>(std::floor(std::pow(options.grid_points, 1.0 / dims))), 2, 24);
+  // A lattice with 2 points per axis only tries each parameter near a quarter and three quarters
+  // of its range; with that many dimensions a Halton design spreads the same budget over more
+  // distinct values of every parameter.
+  const bool lattice = per_axis >= 3 || dims <= 2;
+  std::vector<std::vector<double>> axes;
+  size_t total = 1;
+  if (lattice) {
+    for (const ParamSpec* p : axes_params) {
+      axes.push_back(grid_axis(*p, per_axis));
+      total *= axes.back().size();
+    }
+  } else {
+    total = static_cast<size_t>(std::max(options.grid_points, 1));
+  }
+  static constexpr int kPrimes[] = {2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53, 59, 61, 67, 71};
+  auto set = [&](std::vector<double>& values, const ParamSpec& p, double value) {
+    const int offset = model.offset_of(p.name);
+    std::fill_n(values.begin() + offset, p.channels, value);
+  };
+
+  std::vector<Start> starts(total + 1);
+  // The last entry starts from `initial` itself (the defaults), so the grid never does worse.
+  parallel_for(total + 1, thread_count(options.threads), [&](size_t index) {
+    std::vector<double> values = initial;
+    size_t rest = index;
+    if (index < total && lattice)
+      for (int d = 0; d < dims; ++d) {
+        set(values, *axes_params[d], axes[d][rest % axes[d].size()]);
+        rest /= axes[d].size();
+      }
+    else if (index < total)
+      for (int d = 0; d < dims; ++d)
+        set(values, *axes_params[d], at_fraction(*axes_params[d], halton(index + 1, kPrimes[d % std::size(kPrimes)])));
+    const double cost = solved_cost(model, values, samples, metric, channels);
+    starts[index] = {std::move(values), cost};
+  });
+  stop_if_cancelled(options);
+  std::sort(starts.begin(), starts.end(), [](const Start& a, const Start& b) { return a.cost < b.cost; });
+  return starts;
+}
+
+bool has_non_linear_colour(const Model& model) {
+  const auto& params = model.parameters();
+  return std::any_of(params.begin(), params.end(), [](const ParamSpec& p) { return !p.linear && p.channels > 1; });
+}
+
+// Where the grid is a Halton design rather than a lattice (see grid_starts).
+bool many_shape_parameters(const Model& model) {
+  const auto& params = model.parameters();
+  return std::count_if(params.begin(), params.end(), [](const ParamSpec& p) { return !p.linear; }) > 5;
+}
+
+Start coordinate_search(const Model& model, Start start, const std::vector<Sample>& samples, Metric metric,
+                        const Channels& channels, const FitOptions& options) {
+  constexpr int kValuesPerParameter = 24, kMaxPasses = 10;
+  std::vector<const ParamSpec*> shape;
+  for (const ParamSpec& p : model.parameters())
+    if (!p.linear) shape.push_back(&p);
+  for (int pass = 0; pass < kMaxPasses; ++pass) {
+    bool improved = false;
+    for (const ParamSpec* p : shape) {
+      stop_if_cancelled(options);
+      const std::vector<double> axis = grid_axis(*p, kValuesPerParameter);
+      std::vector<Start> tries(axis.size());
+      parallel_for(axis.size(), thread_count(options.threads), [&](size_t k) {
+        std::vector<double> values = start.values;
+        std::fill_n(values.begin() + model.offset_of(p->name), p->channels, axis[k]);
+        const double cost = solved_cost(model, values, samples, metric, channels);
+        tries[k] = {std::move(values), cost};
+      });
+      for (Start& t : tries)
+        if (t.cost < start.cost * (1 - 1e-9)) {
+          start = std::move(t);
+          improved = true;
+        }
+    }
+    if (!improved) break;
+  }
+  return start;
+}
+
+}  // namespace brdffit::fitting

@@ -1,0 +1,126 @@
+// A fitted result's verdict and warnings (fit_stages.h, judge), and the bounds as results report them.
+#include <fmt/format.h>
+#include <algorithm>
+#include <cmath>
+
+#include "brdffit/fit_stages.h"
+
+namespace brdffit {
+
+const char* verdict_name(Verdict verdict) {
+  switch (verdict) {
+    case Verdict::Good: return "good";
+    case Verdict::Poor: return "poor";
+    case Verdict::Failed: break;
+  }
+  return "failed";
+}
+
+namespace fitting {
+
+namespace {
+
+std::string format_value(const std::vector<double>& v) {
+  if (v.size() == 1) return fmt::format("{:.4g}", v[0]);
+  return fmt::format("[{:.4g}, {:.4g}, {:.4g}]", v[0], v[1], v[2]);
+}
+
+}  // namespace
+
+bool at_upper_bound(const ParamSpec& p, double value) {
+  return p.spacing == Spacing::Log ? value >= p.upper * std::pow(p.lower / p.upper, 1e-6)
+                                   : value >= p.upper - 1e-6 * (p.upper - p.lower);
+}
+bool at_bound(const ParamSpec& p, double value) {
+  const bool at_lower = p.spacing == Spacing::Log ? value <= p.lower * std::pow(p.upper / p.lower, 1e-6)
+                                                  : value <= p.lower + 1e-6 * (p.upper - p.lower);
+  return at_lower || at_upper_bound(p, value);
+}
+
+void judge(const Model& model, const FitResult* baseline, double zero_error, Metric metric, bool isotropic_data,
+           FitResult& r) {
+  constexpr double kPoorRatio = 1.05, kPoorUnexplained = 0.85, kPoorTypical = 1.0, kPoorClampedUnexplained = 0.25;
+  const std::vector<Metric> kJudgedMetrics = judged_metrics();  // kMetrics (metric.h)
+  if (!r.ok) {
+    r.verdict = Verdict::Failed;
+    return;
+  }
+  r.verdict = Verdict::Good;
+  const double error = r.metrics.get(metric);
+  if (baseline && baseline->ok && baseline->model != r.model) {
+    for (const Metric judged : kJudgedMetrics) {
+      const double own = r.metrics.get(judged), base = baseline->metrics.get(judged);
+      if (!(own > kPoorRatio * base)) continue;
+      r.verdict = Verdict::Poor;
+      r.warnings.push_back(
+          fmt::format("poor fit: its {} error {:.4g} is {:.2f}x that of Lambert ({:.4g}) on the same samples{}",
+                      metric_name(judged), own, own / std::max(base, 1e-300), base,
+                      judged == metric ? "" : " (not the metric it minimised)"));
+    }
+  }
+  if (zero_error > 0.0 && error > kPoorUnexplained * zero_error) {
+    r.verdict = Verdict::Poor;
+    r.warnings.push_back(
+        fmt::format("poor fit: its {} error {:.4g} is {:.0f}% of the data's own scale ({:.4g}, the "
+                    "error of predicting zero): it misses what dominates the data",
+                    metric_name(metric), error, 100.0 * error / zero_error, zero_error));
+  }
+  if (r.metrics.typical > kPoorTypical) {
+    r.verdict = Verdict::Poor;
+    r.warnings.push_back(
+        fmt::format("poor fit: a typical sample is off by {:.0f}% of its own value: it misses the "
+                    "body of the data",
+                    100.0 * r.metrics.typical));
+  }
+  for (const ParameterEstimate& p : r.parameters) {
+    const ParamSpec* spec = model.find_parameter(p.name);
+    if (spec && spec->role == Role::Orientation && isotropic_data) {
+      r.warnings.push_back(
+          fmt::format("{} is not identifiable: the data are isotropic (the same at every azimuth), so the lobe has "
+                      "no orientation to fit; use the isotropic model unless the widths differ",
+                      p.name));
+      continue;
+    }
+    const bool clamped = spec && spec->linear && std::all_of(p.value.begin(), p.value.end(), [&](double v) {
+                           return at_upper_bound(*spec, v);
+                         });
+    if (clamped && zero_error > 0.0 && error > kPoorClampedUnexplained * zero_error) {
+      r.verdict = Verdict::Poor;
+      r.warnings.push_back(
+          fmt::format("poor fit: {} is at its upper bound {:.4g} in every channel and the fit leaves "
+                      "{:.0f}% of the data's scale: the data are brighter than this model can be",
+                      p.name, spec->upper, 100.0 * error / zero_error));
+    }
+    if (p.at_bound && spec) {
+      const bool upper =
+          std::any_of(p.value.begin(), p.value.end(), [&](double v) { return at_upper_bound(*spec, v); });
+      r.warnings.push_back(
+          fmt::format("{} = {} sits at its {} bound {:.4g}: the data would push it further, "
+                      "its uncertainty is only indicative",
+                      p.name, format_value(p.value), upper ? "upper" : "lower", upper ? spec->upper : spec->lower));
+    }
+    if (spec && spec->trades_off_with && (p.at_bound || !p.identifiable)) {
+      const ParamSpec* other = model.find_parameter(spec->trades_off_with);
+      const auto partner = std::find_if(r.parameters.begin(), r.parameters.end(),
+                                        [&](const ParameterEstimate& e) { return e.name == spec->trades_off_with; });
+      if (other && partner != r.parameters.end()) {
+        std::vector<double> product;
+        for (size_t i = 0; i < std::max(partner->value.size(), p.value.size()); ++i)
+          product.push_back(partner->value[std::min(i, partner->value.size() - 1)] *
+                            p.value[std::min(i, p.value.size() - 1)]);
+        r.warnings.push_back(
+            fmt::format("{}·{} = {} is what the data determine (the lobe's reflectance at normal "
+                        "incidence); {} was left where the least-squares optimum put it",
+                        other->name, p.name, format_value(product), p.name));
+      }
+    }
+    if (!p.identifiable)
+      r.warnings.push_back(
+          fmt::format("{} is not identifiable: the data do not determine it (it trades off with "
+                      "other parameters); its value is one of many equally good ones",
+                      p.name));
+  }
+}
+
+}  // namespace fitting
+}  // namespace brdffit

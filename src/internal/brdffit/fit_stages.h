@@ -1,0 +1,188 @@
+// The generic fitter's stages, shared by its units (the strategy: fit.h):
+//   fit_starts.cc     the multi-start grid and the coordinate search, evaluated with doubles
+//   least_squares.cc  Ceres' trust-region refinements, values held on bounds, the covariance
+//   fit_verdict.cc    a fitted result's verdict and warnings, bounds as reported
+//   fit.cc            the orchestration: the stages per set of channels, nested models, held parameters
+#pragma once
+
+#include <ceres/ceres.h>
+
+#include <Eigen/Core>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "brdffit/error.h"
+#include "brdffit/fit.h"
+#include "brdffit/fit_objective.h"
+#include "brdffit/model.h"
+#include "brdffit/samples.h"
+
+namespace brdffit::fitting {
+
+// Where each flattened value comes from: its parameter and its channel (0 for scalars).
+struct ValueSlot {
+  const ParamSpec* param;
+  int channel;
+};
+
+// FitOptions::cancel is looked at before and after every grid, coordinate-search pass and solve,
+// and by Ceres at each iteration (AtEachIteration).
+inline void stop_if_cancelled(const FitOptions& options) {
+  if (options.cancel && options.cancel->load()) throw Cancelled();
+}
+
+inline std::vector<ValueSlot> value_slots(const Model& model) {
+  std::vector<ValueSlot> slots;
+  for (const ParamSpec& p : model.parameters())
+    for (int c = 0; c < p.channels; ++c) slots.push_back({&p, c});
+  return slots;
+}
+
+// A value is fitted in a channel-restricted fit when it is a scalar, or a colour component of
+// a fitted channel.
+inline bool is_fitted(const ValueSlot& slot, const Channels& channels) {
+  return slot.param->channels == 1 || channels[slot.channel];
+}
+
+std::unique_ptr<ceres::LossFunction> make_loss(LossKind kind, double scale);
+
+// ---------------------------------------------------------------------------------------------
+// Starts (fit_starts.cc).
+
+struct Start {
+  std::vector<double> values;
+  double cost;
+};
+
+// Solves the linear parameters of `values` and returns the cost there (cost_of without a loss):
+// from the solve's normal equations where they give it, which saves a pass over the samples per
+// grid point and search step (a quarter of those stages for a model with two linear colours).
+double solved_cost(const Model& model, std::vector<double>& values, const std::vector<Sample>& samples, Metric metric,
+                   const Channels& channels);
+
+// Every grid point's values with the linear parameters solved, sorted by cost on `samples`. The
+// grid spans the scalar non-linear parameters, and with `colours` the non-linear colours too, a
+// colour taking the same value in every channel (a start: the refinement separates them).
+std::vector<Start> grid_starts(const Model& model, const std::vector<double>& initial,
+                               const std::vector<Sample>& samples, Metric metric, const Channels& channels,
+                               const FitOptions& options, bool colours);
+
+// Whether a model has a colour that is not solved linearly (the grid then also spans colours).
+bool has_non_linear_colour(const Model& model);
+
+// Where the grid is a Halton design rather than a lattice, and the coordinate search runs.
+bool many_shape_parameters(const Model& model);
+
+// Coordinate search from a grid point, for models with many shape parameters: each parameter in
+// turn is tried at values spread over its range (the others held, colours set in every channel,
+// the linear parameters solved), keeping any improvement, until a pass changes nothing. A
+// 256-point design in nine dimensions (sgd) rarely lands in the basin of a material's optimum;
+// the search walks there one parameter at a time, at the cost of a few hundred evaluations on
+// the subsample, before the trust region takes over. (Profiled on sgd, its evaluations with
+// doubles are most of the fit's time. Searching a third of the subsample instead cost sgd 8 %
+// in error on blue-acrylic: the search needs the subsample's grazing samples.)
+Start coordinate_search(const Model& model, Start start, const std::vector<Sample>& samples, Metric metric,
+                        const Channels& channels, const FitOptions& options);
+
+// ---------------------------------------------------------------------------------------------
+// Trust-region least squares with Ceres (least_squares.cc).
+
+struct Refinement {
+  std::vector<double> values;
+  double cost = HUGE_VAL;  // Ceres' cost: ½ Σ r²
+  int iterations = 0;
+  double trust_region_radius = 0.0;  // at the last step: where a continuation starts
+  bool usable = false;
+  std::string termination;
+  Eigen::MatrixXd covariance;      // over the free values, unscaled (JᵀJ)⁻¹; empty if not computed
+  std::vector<bool> identifiable;  // per free value
+  std::vector<int> free_index;
+  std::vector<int> held;      // free values held on a bound (indices into values)
+  bool held_checked = false;  // `held` is what the cost asks for at `values`, not only where the run started
+};
+
+class LeastSquares {
+ public:
+  LeastSquares(const Model& model, const std::vector<Sample>& samples, Metric metric, const Channels& channels,
+               const ceres::LossFunction* loss, const FitOptions& options)
+      : model_(model), samples_(samples), metric_(metric), channels_(channels), loss_(loss), options_(options) {}
+
+  // Trust-region least squares from `start`; function_tolerance: relative cost change at which it
+  // stops. A continuation of an earlier run on the same samples passes that run's last trust-region
+  // radius, so that it goes on with the steps the run had reached rather than starting over from
+  // Ceres' default (a converged run's radius would stop a run on other samples at once). A run
+  // from an earlier run's end (`earlier`) starts with the values that run held on their bounds.
+  Refinement run(const std::vector<double>& start, int max_iterations, double function_tolerance = 1e-10,
+                 double trust_region_radius = 0.0, const Refinement* earlier = nullptr) const;
+
+  // Fills r.covariance and r.identifiable at r.values.
+  void estimate_covariance(Refinement& r) const;
+
+  // Values the solver optimises: all but integer parameters and the colour components of channels
+  // this fit leaves alone.
+  std::vector<int> free_values() const;
+
+ private:
+  // Runs Ceres from r.values with the values r.held held, and puts its result in r (its
+  // iterations added to r's).
+  void solve(Refinement& r, int max_iterations, double function_tolerance, double trust_region_radius) const;
+
+  // The free values (indices into the model's values) on a bound with the cost's gradient pointing
+  // out of the box at r.values; none when that would be every free value. One gradient evaluation,
+  // and none when no free value is on a bound.
+  std::vector<int> held_on_bounds(const Refinement& r) const;
+
+  // One residual block per batch of samples over the free values x, with the bounds.
+  void build_problem(Refinement& r, std::vector<double>& x, ceres::Problem& problem) const;
+
+  // The covariance (JᵀJ)⁺ of the free values from the Jacobian Ceres evaluates at the
+  // optimum. Values the data do not determine (their direction lies partly in the numerical
+  // null space of the column-scaled JᵀJ, e.g. two parameters that only matter through their
+  // ratio) are flagged rather than given a meaningless number; the others get theirs from the
+  // pseudo-inverse, which drops that null space.
+  static void estimate_covariance(ceres::Problem& problem, std::vector<double>& x, int threads, Refinement& out);
+
+  const Model& model_;
+  const std::vector<Sample>& samples_;
+  Metric metric_;
+  Channels channels_;
+  const ceres::LossFunction* loss_;
+  const FitOptions& options_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Verdicts (fit_verdict.cc).
+
+// On a bound to within a millionth of the parameter's range, measured as the grid spaces it: in
+// log space for log-spaced parameters (c of sgd spans 1e-8 to 1e4; a linear millionth, 0.01,
+// would call 0.006 a value at its lower bound).
+bool at_upper_bound(const ParamSpec& p, double value);
+bool at_bound(const ParamSpec& p, double value);
+
+// The verdict and the warning lines of a fitted result (see Verdict in fit.h). A fit is poor
+// when any of these holds:
+//   - its error in any judged metric (kJudgedMetrics: cosine, log, relative and l2, whichever was
+//     minimised) is more than kPoorRatio times that of the baseline, Lambert fitted to the same
+//     samples: every reflectance model should do at least as well as a diffuse term alone, and
+//     models with a Lambert base contain it. Judging the fitted metric alone let a mirror-like
+//     gltf fit of white paper (log minimised; cosine error 1960 against Lambert's 0.047) and
+//     glossy fits 2-14x Lambert's relative error on acrylics pass as good. `max` is one sample's
+//     error and is reported, not judged;
+//   - it removes less than 1 - kPoorUnexplained of the data's own scale in that metric (the
+//     error of predicting zero): it misses what dominates the data, e.g. a diffuse model on a
+//     glossy coating;
+//   - its typical sample is off by more than kPoorTypical times its own value (Metrics::typical):
+//     it misses the body of the data, e.g. a lobe with no diffuse term on a coloured paint;
+//   - a colour or scale it solves linearly sits at its upper bound in every channel while it
+//     leaves more than kPoorClampedUnexplained of the data's scale: the data are brighter than
+//     the model can be (a stylised shader's output in place of a reflectance), and the values
+//     it reports are its limits, not the material's.
+// The thresholds were set on the shared RGL and MERL tables, where they flag the diffuse models
+// on glossy materials, toon on measured ones and single lobes that capture < 15% of a
+// mirror-like peak, and leave every model on white paper and red fabric good.
+void judge(const Model& model, const FitResult* baseline, double zero_error, Metric metric, bool isotropic_data,
+           FitResult& r);
+
+}  // namespace brdffit::fitting
