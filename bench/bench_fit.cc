@@ -73,6 +73,8 @@ int main(int argc, char** argv) {
   app.add_option("--start", start_values, "NAME=VALUE the fit starts from besides its grid (one model only)");
   std::string metric = "cosine";
   app.add_option("--metric", metric, "Metric minimised");
+  bool stages = false;
+  app.add_flag("--stages", stages, "Print each fit's CPU seconds per stage of the fitter (use with --threads 1)");
   CLI11_PARSE(app, argc, argv);
   try {
     if (const auto parsed = parse_metric(metric))
@@ -113,6 +115,9 @@ int main(int argc, char** argv) {
       const std::string ratio = ggx_cpu > 0 ? fmt::format("{:5.1f}x ggx", cpu / ggx_cpu) : "";
       fmt::print("{:<18} {:>7.3f} s  cpu {:>7.3f} s {}  cosine {:.5g}  log {:.5g}  iterations {:>3}  {}\n", m->name(),
                  seconds, cpu, ratio, fit.metrics.cosine, fit.metrics.log, fit.iterations, fit.ok ? "ok" : fit.error);
+      if (stages)
+        for (const StageProfile& s : fit.stages)
+          fmt::print("    {:<22} {:>8.3f} s  {:>3} iterations\n", s.stage, s.cpu_seconds, s.iterations);
     }
     fmt::print("total fit time {:.2f} s; peak memory {:.0f} MB\n", total, peak_rss_mb());
   } catch (const Error& e) {

@@ -12,6 +12,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <functional>
 #include <map>
 #include <set>
@@ -38,13 +39,41 @@ struct ChannelFit {
   Refinement final;
   int iterations = 0;
   size_t residuals = 0;
+  std::vector<StageProfile> stages;
+};
+
+void add_stage(std::vector<StageProfile>& stages, const StageProfile& stage) {
+  auto it = std::find_if(stages.begin(), stages.end(), [&](const StageProfile& s) { return s.stage == stage.stage; });
+  if (it == stages.end()) return stages.push_back(stage);
+  it->cpu_seconds += stage.cpu_seconds;
+  it->iterations += stage.iterations;
+}
+
+// ChannelFit::stages: each lap gives a stage the process CPU time and the iterations since the last.
+class StageClock {
+ public:
+  explicit StageClock(ChannelFit& fit) : fit_(fit), last_cpu_(std::clock()), last_iterations_(fit.iterations) {}
+  void lap(const std::string& stage) {
+    const std::clock_t cpu = std::clock();
+    add_stage(fit_.stages,
+              {stage, static_cast<double>(cpu - last_cpu_) / CLOCKS_PER_SEC, fit_.iterations - last_iterations_});
+    last_cpu_ = cpu;
+    last_iterations_ = fit_.iterations;
+  }
+
+ private:
+  ChannelFit& fit_;
+  std::clock_t last_cpu_;
+  int last_iterations_;
 };
 
 ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOptions& options, const Channels& channels,
                         const std::vector<double>& initial, const std::vector<std::vector<double>>& nested_starts) {
   ChannelFit fit;
+  StageClock clock(fit);
   const int threads = thread_count(options.threads);
   const std::vector<Sample> small = importance_subset(data.samples, options.subsample, options.seed);
+  clock.lap("subsample");
   const bool small_is_all = small.size() == data.samples.size();
 
   std::vector<Start> starts;
@@ -67,11 +96,13 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
         if (std::none_of(starts.begin(), starts.end(), [&](const Start& s) { return s.values == point.values; }))
           starts.push_back(std::move(point));
     }
+    clock.lap("grid");
     // Searched from, besides the grid points themselves: the search does not always end in the
     // better basin.
     if (many_shape_parameters(model))
       for (size_t i = 0, n = starts.size(); i < n; ++i)
         starts.push_back(coordinate_search(model, starts[i], small, options.metric, channels, options));
+    clock.lap("coordinate search");
     // The contained models' optima are refined too: the multi-start grid may not come near them.
     for (std::vector<double> nested : nested_starts) {
       const double cost = solved_cost(model, nested, small, options.metric, channels);
@@ -109,6 +140,7 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
     r.free_index = on_all.free_values();
     keep(std::move(r));
   }
+  clock.lap("nested starts");
 
   Refinement best;
   if (!options.single_start) {
@@ -129,6 +161,7 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
       fit.iterations += r.iterations;
       if (r.usable) screened.push_back(std::move(r));
     }
+    clock.lap("screen");
     std::sort(screened.begin(), screened.end(),
               [](const Refinement& a, const Refinement& b) { return a.cost < b.cost; });
     screened.resize(std::min(screened.size(), 2 * static_cast<size_t>(std::max(1, options.starts))));
@@ -142,8 +175,10 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
         fit.iterations += more.iterations;
         if (more.usable) r = std::move(more);
       }
+      clock.lap("continue");
       if (!small_is_all) keep(r);
       if (r.cost < best.cost) best = r;
+      clock.lap("candidate costs");
     }
     if (!best.usable) {
       best.values = starts[0].values;
@@ -159,13 +194,16 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
     for (size_t draws = small.size() * 10; draws < data.size(); draws *= 10) {
       std::vector<Sample> subset = importance_subset(
           data.samples, draws, options.seed, absolute_errors(model, best.values, data.samples, channels, threads));
+      clock.lap("subset draws");
       const LeastSquares on_subset(model, subset, options.metric, channels, loss.get(), options);
       Refinement r = on_subset.run(best.values, options.max_iterations, 1e-6, 0.0, best.usable ? &best : nullptr);
       fit.iterations += r.iterations;
+      clock.lap(fmt::format("subset of {}", draws));
       if (r.usable) {
         best = r;
         keep(std::move(r));
       }
+      clock.lap("candidate costs");
       largest_draws = draws;
       largest_subset = std::move(subset);
     }
@@ -185,6 +223,7 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
         on_all.run(start, polish ? std::min(options.polish_iterations, options.max_iterations) : options.max_iterations,
                    1e-6, 0.0, earlier);
     fit.iterations += r.iterations;
+    clock.lap("all samples");
     if (polish && r.usable && r.iterations >= options.polish_iterations)
       r.termination =
           fmt::format("polished: {} steps on all samples after converging on an importance subset of {} draws",
@@ -207,6 +246,7 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
     keep(std::move(exact));
     best = cheapest();
   }
+  clock.lap("candidate costs");
   // JᵀJ at the optimum: over all samples, or estimated from the large importance subset (its
   // weights make sums over it unbiased estimates of sums over all samples; with 100k draws the
   // standard deviations come out within about a percent, for a tenth of the time).
@@ -214,6 +254,7 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
     LeastSquares(model, largest_subset, options.metric, channels, loss.get(), options).estimate_covariance(best);
   else
     on_all.estimate_covariance(best);
+  clock.lap("covariance");
   fit.residuals = data.size() * static_cast<size_t>(std::count(channels.begin(), channels.end(), true));
   fit.final = std::move(best);
   return fit;
@@ -312,9 +353,13 @@ FitResult fit_one(const Model& model, const SampleSet& data, const FitOptions& o
 
   std::vector<ChannelFit> fits;
   std::string failure;
+  auto count = [&](const ChannelFit& fit) {  // its iterations and its profile
+    result.iterations += fit.iterations;
+    for (const StageProfile& stage : fit.stages) add_stage(result.stages, stage);
+  };
   auto record = [&](ChannelFit fit) {
     if (!fit.final.usable && failure.empty()) failure = fit.final.termination;
-    result.iterations += fit.iterations;
+    count(fit);
     fits.push_back(std::move(fit));
   };
   if (!options.per_channel) {
@@ -324,7 +369,7 @@ FitResult fit_one(const Model& model, const SampleSet& data, const FitOptions& o
     for (int c = 0; c < 3; ++c)
       for (std::vector<double>& s : nested_for(c)) shared_starts.push_back(std::move(s));
     const ChannelFit shared = fit_channels(model, data, options, kAllChannels, initial, shared_starts);
-    result.iterations += shared.iterations;
+    count(shared);
     for (int c = 0; c < 3; ++c) {
       Channels mask{false, false, false};
       mask[c] = true;

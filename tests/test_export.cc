@@ -150,7 +150,8 @@ TEST(ExportCli, EachFormatWritesItsModelsFitUnchangedAndReadsBack) {
   EXPECT_EQ(
       both["materials"][0]["extensions"],
       nlohmann::json::parse(R"({"KHR_materials_clearcoat": {"clearcoatFactor": 0.7, "clearcoatRoughnessFactor": 0.15},
-                                      "KHR_materials_sheen": {"sheenColorFactor": [0.6, 0.3, 0.2], "sheenRoughnessFactor": 0.35}})"));
+                                "KHR_materials_sheen": {"sheenColorFactor": [0.6, 0.3, 0.2],
+                                                        "sheenRoughnessFactor": 0.35}})"));
   // OpenPBR and Mitsuba: nine significant digits in the files, so these short decimals come back exactly.
   expect_round_trip(doc, dir + "/gold.mtlx", "openpbr", kOpenPbr, 0.0);
   // Mitsuba: the mitsuba-principled fit (what the plugin evaluates), not Burley's principled one.

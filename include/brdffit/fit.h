@@ -71,6 +71,14 @@ struct ParameterEstimate {
 enum class Verdict { Good, Poor, Failed };
 const char* verdict_name(Verdict verdict);
 
+// A profile of one stage of the fitter (grid, coordinate search, screen, subsets, all samples, ...):
+// bench_fit --stages prints them.
+struct StageProfile {
+  std::string stage;
+  double cpu_seconds = 0.0;  // the process's: meaningful with one thread and nothing else running in it
+  int iterations = 0;        // trust-region iterations
+};
+
 struct FitResult {
   std::string model;
   bool ok = false;
@@ -89,6 +97,7 @@ struct FitResult {
   std::string termination;  // Ceres' termination type and message
   double seconds = 0.0;
   size_t samples = 0;
+  std::vector<StageProfile> stages;  // where the time went, summed over channel fits, in the order first met
 };
 
 // Fits one model; never throws for a fit that goes wrong (it returns ok = false with the
