@@ -5,12 +5,12 @@
 #include <filesystem>
 
 #include "brdffit/error.h"
-#include "brdffit/image_io.h"
+#include "brdffit/imaging/image_io.h"
+#include "brdffit/imaging/render.h"
+#include "brdffit/imaging/report.h"
 #include "brdffit/io.h"
 #include "brdffit/measured.h"
 #include "brdffit/registry.h"
-#include "brdffit/render.h"
-#include "brdffit/report.h"
 #include "brdffit/result_json.h"
 #include "cli_common.h"
 #include "commands.h"

@@ -7,13 +7,13 @@
 #include <filesystem>
 #include <map>
 
-#include "brdffit/capture.h"
 #include "brdffit/error.h"
-#include "brdffit/image_io.h"
+#include "brdffit/imaging/capture.h"
+#include "brdffit/imaging/image_io.h"
+#include "brdffit/imaging/sphere_fit.h"
 #include "brdffit/io.h"
 #include "brdffit/registry.h"
 #include "brdffit/result_json.h"
-#include "brdffit/sphere_fit.h"
 #include "cli_common.h"
 #include "commands.h"
 #include "fit_options.h"

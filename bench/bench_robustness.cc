@@ -30,10 +30,10 @@
 
 #include "brdffit/error.h"
 #include "brdffit/fit.h"
+#include "brdffit/imaging/sphere_fit.h"
 #include "brdffit/measured.h"
 #include "brdffit/merl.h"
 #include "brdffit/registry.h"
-#include "brdffit/sphere_fit.h"
 
 using namespace brdffit;
 namespace fs = std::filesystem;

@@ -16,8 +16,8 @@
 
 #include "brdffit/error.h"
 #include "brdffit/fit.h"
+#include "brdffit/imaging/sphere_fit.h"
 #include "brdffit/registry.h"
-#include "brdffit/sphere_fit.h"
 #include "sphere_scenes.h"
 
 using namespace brdffit;

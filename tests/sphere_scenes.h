@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "brdffit/image_io.h"
+#include "brdffit/imaging/image_io.h"
+#include "brdffit/imaging/sphere.h"
 #include "brdffit/io.h"
 #include "brdffit/registry.h"
-#include "brdffit/sphere.h"
 
 namespace brdffit::test {
 

@@ -9,9 +9,9 @@
 #include <random>
 #include <vector>
 
-#include "brdffit/capture.h"
 #include "brdffit/error.h"
-#include "brdffit/image_io.h"
+#include "brdffit/imaging/capture.h"
+#include "brdffit/imaging/image_io.h"
 #include "test_util.h"
 
 namespace brdffit {

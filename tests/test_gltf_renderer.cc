@@ -56,7 +56,7 @@
 #include <nlohmann/json.hpp>
 
 #include "batch_test_util.h"
-#include "brdffit/image_io.h"
+#include "brdffit/imaging/image_io.h"
 #include "brdffit/math.h"
 #include "brdffit/models/gltf_sheen.h"
 

@@ -14,17 +14,17 @@
 
 #include "batch_test_util.h"
 #include "brdffit/batch.h"
-#include "brdffit/capture.h"
 #include "brdffit/compare.h"
 #include "brdffit/csv_samples.h"
 #include "brdffit/error.h"
 #include "brdffit/fit.h"
-#include "brdffit/image_io.h"
+#include "brdffit/imaging/capture.h"
+#include "brdffit/imaging/image_io.h"
+#include "brdffit/imaging/sphere.h"
 #include "brdffit/io.h"
 #include "brdffit/registry.h"
 #include "brdffit/result_json.h"
 #include "brdffit/samples.h"
-#include "brdffit/sphere.h"
 #include "test_util.h"
 
 namespace brdffit::test {

@@ -14,11 +14,12 @@
 #include "batch_test_util.h"
 #include "brdffit/batch.h"
 #include "brdffit/batch_shard.h"
-#include "brdffit/capture.h"
 #include "brdffit/compressed.h"
 #include "brdffit/error.h"
 #include "brdffit/fit.h"
-#include "brdffit/image_io.h"
+#include "brdffit/imaging/capture.h"
+#include "brdffit/imaging/image_io.h"
+#include "brdffit/imaging/sphere_fit.h"
 #include "brdffit/io.h"
 #include "brdffit/material_export.h"
 #include "brdffit/measured.h"
@@ -27,7 +28,6 @@
 #include "brdffit/registry.h"
 #include "brdffit/result_json.h"
 #include "brdffit/samples.h"
-#include "brdffit/sphere_fit.h"
 #include "test_util.h"
 
 namespace brdffit::test {

@@ -8,8 +8,8 @@
 #include "batch_test_util.h"
 #include "brdffit/compare.h"
 #include "brdffit/error.h"
+#include "brdffit/imaging/report.h"
 #include "brdffit/registry.h"
-#include "brdffit/report.h"
 
 namespace brdffit {
 namespace {

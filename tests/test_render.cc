@@ -5,10 +5,10 @@
 
 #include "batch_test_util.h"
 #include "brdffit/error.h"
-#include "brdffit/image_io.h"
+#include "brdffit/imaging/image_io.h"
+#include "brdffit/imaging/render.h"
 #include "brdffit/merl.h"
 #include "brdffit/registry.h"
-#include "brdffit/render.h"
 
 namespace brdffit {
 namespace {

@@ -9,10 +9,10 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "batch_test_util.h"
-#include "brdffit/image_io.h"
+#include "brdffit/imaging/image_io.h"
+#include "brdffit/imaging/render.h"
 #include "brdffit/merl.h"
 #include "brdffit/registry.h"
-#include "brdffit/render.h"
 #include "sphere_scenes.h"
 
 namespace brdffit {

@@ -11,10 +11,10 @@
 #include <opencv2/core.hpp>
 
 #include "brdffit/fit.h"
-#include "brdffit/image_io.h"
+#include "brdffit/imaging/image_io.h"
+#include "brdffit/imaging/sphere_fit.h"
 #include "brdffit/io.h"
 #include "brdffit/registry.h"
-#include "brdffit/sphere_fit.h"
 #include "sphere_scenes.h"
 #include "test_util.h"
 

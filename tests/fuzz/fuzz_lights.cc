@@ -6,7 +6,7 @@
 #include <cstdlib>
 
 #include "brdffit/error.h"
-#include "brdffit/sphere.h"
+#include "brdffit/imaging/sphere.h"
 #include "fuzz_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

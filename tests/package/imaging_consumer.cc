@@ -4,7 +4,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "brdffit/render.h"
+#include "brdffit/imaging/render.h"
 
 int main() {
   const int covered = cv::countNonZero(brdffit::sphere_mask(64));

@@ -25,8 +25,8 @@
 #include <string>
 #include <vector>
 
+#include "brdffit/imaging/render.h"
 #include "brdffit/metric.h"
-#include "brdffit/render.h"
 #include "brdffit/result_json.h"
 
 namespace brdffit {

@@ -1,5 +1,5 @@
 // The HTML report (see report.h).
-#include "brdffit/report.h"
+#include "brdffit/imaging/report.h"
 
 #include <fmt/format.h>
 
@@ -13,12 +13,12 @@
 #include "brdffit/base64.h"
 #include "brdffit/compare.h"
 #include "brdffit/error.h"
-#include "brdffit/image_io.h"
+#include "brdffit/imaging/image_io.h"
+#include "brdffit/imaging/sphere.h"
 #include "brdffit/io.h"
 #include "brdffit/measured.h"
 #include "brdffit/model.h"
 #include "brdffit/registry.h"
-#include "brdffit/sphere.h"
 
 namespace brdffit {
 

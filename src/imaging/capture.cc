@@ -1,4 +1,4 @@
-#include "brdffit/capture.h"
+#include "brdffit/imaging/capture.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 #include <regex>
 
 #include "brdffit/error.h"
-#include "brdffit/image_io.h"
+#include "brdffit/imaging/image_io.h"
 #include "brdffit/io.h"
 
 namespace brdffit {

@@ -1,4 +1,4 @@
-#include "brdffit/image_io.h"
+#include "brdffit/imaging/image_io.h"
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>

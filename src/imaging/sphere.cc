@@ -1,5 +1,5 @@
 // Sphere geometry, the shading frame, which pixels are used, and rendering onto a sphere.
-#include "brdffit/sphere.h"
+#include "brdffit/imaging/sphere.h"
 
 #include <Eigen/Geometry>  // cross, unitOrthogonal
 #include <algorithm>

@@ -1,5 +1,5 @@
 // From photographs of a sphere to samples, and from fits back to images (see sphere_fit.h).
-#include "brdffit/sphere_fit.h"
+#include "brdffit/imaging/sphere_fit.h"
 
 #include <fmt/format.h>
 

@@ -4,8 +4,8 @@
 #include <sstream>
 
 #include "brdffit/error.h"
+#include "brdffit/imaging/sphere.h"
 #include "brdffit/io.h"
-#include "brdffit/sphere.h"
 
 namespace brdffit {
 

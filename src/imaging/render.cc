@@ -1,15 +1,15 @@
 // Pictures of reflectance (see render.h).
-#include "brdffit/render.h"
+#include "brdffit/imaging/render.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 
 #include "brdffit/error.h"
-#include "brdffit/image_io.h"
+#include "brdffit/imaging/image_io.h"
+#include "brdffit/imaging/sphere.h"
 #include "brdffit/parallel.h"
 #include "brdffit/rusinkiewicz.h"
-#include "brdffit/sphere.h"
 
 namespace brdffit {
 

@@ -21,8 +21,8 @@
 #include <vector>
 
 #include "brdffit/fit.h"
+#include "brdffit/imaging/sphere.h"
 #include "brdffit/samples.h"
-#include "brdffit/sphere.h"
 
 namespace brdffit {
 

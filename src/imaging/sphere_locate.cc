@@ -6,7 +6,7 @@
 #include <optional>
 
 #include "brdffit/error.h"
-#include "brdffit/sphere.h"
+#include "brdffit/imaging/sphere.h"
 
 namespace brdffit {
 

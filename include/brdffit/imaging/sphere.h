@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "brdffit/image_io.h"
+#include "brdffit/imaging/image_io.h"
 #include "brdffit/math.h"
 #include "brdffit/model.h"
 
