@@ -1,10 +1,11 @@
 // The one copy of what the commands share (best and named results, numbers in JSON and text,
-// material names, how a batch splits the cores, outcome counts), and the split of the CLI into
-// brdffit (no image library) and brdffit-imaging.
+// material names, how a batch splits the cores, outcome counts), the split of the CLI into
+// brdffit (no image library) and brdffit-imaging, and of the library's tree into core and imaging.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -153,6 +154,33 @@ TEST(CliSplit, AMissingBrdffitImagingIsOneClearError) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("brdffit: error: render: needs brdffit-imaging"), std::string::npos) << r.output;
   EXPECT_EQ(test::run_command("PATH=" + dir + " " + lone + " models").exit_code, 0);
+}
+
+// The library's core (src/, include/brdffit/) includes no header of its imaging part
+// (include/brdffit/imaging/): brdffit_core links no image library, and a core file that needed one
+// belongs in an imaging/ folder. Every file of src/ and include/brdffit/ is read, so the imaging
+// sources, which include their headers, show that the include lines are seen.
+TEST(LibrarySplit, CoreIncludesNoImagingHeader) {
+  std::vector<std::string> core_offenders;
+  int imaging_include_lines = 0;
+  for (const char* root : {"/src", "/include/brdffit"}) {
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(std::string(BRDFFIT_SOURCE_DIR) + root)) {
+      const std::filesystem::path& path = entry.path();
+      if (path.extension() != ".cc" && path.extension() != ".h") continue;
+      const bool in_imaging = path.parent_path().filename() == "imaging";
+      std::istringstream lines(test::slurp(path.string()));
+      std::string line;
+      for (int number = 1; std::getline(lines, line); ++number) {
+        if (line.rfind("#include", 0) != 0 || line.find("brdffit/imaging/") == std::string::npos) continue;
+        if (in_imaging)
+          ++imaging_include_lines;
+        else
+          core_offenders.push_back(path.string() + ":" + std::to_string(number) + ": " + line);
+      }
+    }
+  }
+  EXPECT_GE(imaging_include_lines, 8);  // each of the eight imaging sources includes an imaging header
+  EXPECT_TRUE(core_offenders.empty()) << ::testing::PrintToString(core_offenders);
 }
 
 }  // namespace
