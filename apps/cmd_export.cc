@@ -1,4 +1,4 @@
-// `brdffit export`: a fit as a glTF 2.0, OpenPBR (MaterialX) or Mitsuba 3 material.
+// `brdffit export`: a fit as a renderer's material, in any format of material_formats().
 #include <string>
 #include <vector>
 
@@ -49,19 +49,30 @@ void run_export(const ExportArgs& args) {
       exported.converted_vs_fit);
 }
 
+// The models each format writes unchanged, for -m's help: "gltf, gltf-specular or ..., openpbr, ...".
+std::string native_models_help() {
+  std::string text;
+  for (const MaterialFormatInfo& info : material_formats())
+    text += (text.empty() ? "" : ", ") + join_words(info.native_models, "or");
+  return text;
+}
+
 }  // namespace
 
 void add_export_command(CLI::App& app) {
   auto export_args = std::make_shared<ExportArgs>();
   CLI::App* export_cmd = app.add_subcommand(
-      "export", "Write a fit as the renderer's material: glTF 2.0, OpenPBR (MaterialX) or Mitsuba 3 principled");
+      "export", "Write a fit as the renderer's material: " + material_format_list(&MaterialFormatInfo::title));
   export_cmd->add_option("result", export_args->result, "Result document (from fit or batch)")->required();
   add_models_option(export_cmd, export_args->model,
-                    "The fit to export (default: the format's own: gltf, gltf-specular, gltf+clearcoat, gltf+sheen or "
-                    "gltf+clearcoat+sheen, openpbr, mitsuba-principled; "
-                    "another fit is converted and its error reported)");
-  export_cmd->add_option("--format", export_args->format, "gltf, openpbr or mitsuba (default: from --out's extension)");
-  export_cmd->add_option("-o,--out", export_args->out, "File to write (.gltf, .mtlx, .xml)")->required();
+                    "The fit to export (default: the format's own: " + native_models_help() +
+                        "; another fit is converted and its error reported)");
+  export_cmd->add_option("--format", export_args->format,
+                         material_format_list(&MaterialFormatInfo::name) + " (default: from --out's extension)");
+  export_cmd
+      ->add_option("-o,--out", export_args->out,
+                   "File to write (" + material_format_list(&MaterialFormatInfo::extension) + ")")
+      ->required();
   export_cmd->add_flag("--force", export_args->force, "Export a fit whose verdict is poor or failed (with a warning)");
   export_cmd->callback([export_args] { run_export(*export_args); });
 }

@@ -143,7 +143,7 @@ void run_score_published(const ScoreArgs& args, const SampleSet& data) {
 
 void run_score(const ScoreArgs& args) {
   // --published F.fit names its line with --name (or --material, issue 12's spelling);
-  // otherwise --material is an asset file (.gltf, .mtlx, Mitsuba .xml) and --name its material.
+  // otherwise --material is a material file (material_formats()) and --name its material.
   if (!args.published.empty()) {
     if (!args.model.empty()) fail_usage("score: give -m or --published, not both");
     if (!args.material.empty() && !args.name.empty()) fail_usage("score: with --published, give the line's name once");
@@ -204,9 +204,9 @@ void add_fit_commands(CLI::App& app) {
   score_cmd->add_option(
       "--published", score->published,
       "A BBM .fit file of published parameters: scores the material's line for every model it maps onto");
-  score_cmd->add_option(
-      "--material", score->material,
-      "Score the material of a .gltf, .mtlx or Mitsuba .xml file (with --published: the line to score)");
+  score_cmd->add_option("--material", score->material,
+                        "Score the material of a " + material_format_list(&MaterialFormatInfo::files) +
+                            " file (with --published: the line to score)");
   score_cmd->add_option(
       "--name", score->name,
       "The material to score when the file holds several (--published: default the table's file name)");

@@ -336,4 +336,11 @@ std::string count_of(size_t count, const std::string& noun) {
   return fmt::format("{} {}{}", count, noun, count == 1 ? "" : "s");
 }
 
+std::string join_words(const std::vector<std::string>& words, const std::string& conjunction) {
+  std::string text;
+  for (size_t i = 0; i < words.size(); ++i)
+    text += (i == 0 ? "" : i + 1 == words.size() ? " " + conjunction + " " : ", ") + words[i];
+  return text;
+}
+
 }  // namespace brdffit

@@ -1,11 +1,13 @@
 // Text as brdffit writes it where it must not be read as anything else: for terminals
-// (printable, error.h), HTML and XML (escape_markup, io.h; xml_text and the rest, text.h),
+// (printable, error.h), HTML and XML (escape_markup, io.h; xml_text and the rest, text.h, with
+// xml_unescape, the reverse for the XML brdffit reads),
 // Markdown and CSV (io.h), and the UTF-8 checks they rest on. One module, so that each sink
 // has one escaping and a fix reaches every caller.
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cctype>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 
@@ -127,6 +129,42 @@ std::string xml_text(const std::string& text) {
 std::string xml_comment_text(const std::string& text) {
   std::string out;
   for (char c : xml_text(text)) out += c == '-' && !out.empty() && out.back() == '-' ? " -" : std::string(1, c);
+  return out;
+}
+
+// Entities and character references replaced (text.h).
+std::string xml_unescape(const std::string& text, const std::string& path) {
+  std::string out;
+  for (size_t i = 0; i < text.size(); ++i) {
+    if (text[i] != '&') {
+      out += text[i];
+      continue;
+    }
+    const size_t end = text.find(';', i);
+    if (end == std::string::npos) fail("{}: malformed XML: '&' without ';'", path);
+    const std::string entity = text.substr(i + 1, end - i - 1);
+    if (entity == "amp")
+      out += '&';
+    else if (entity == "lt")
+      out += '<';
+    else if (entity == "gt")
+      out += '>';
+    else if (entity == "quot")
+      out += '"';
+    else if (entity == "apos")
+      out += '\'';
+    else if (entity.size() > 1 && entity[0] == '#') {
+      const bool hex = entity[1] == 'x' || entity[1] == 'X';
+      const long code = std::strtol(entity.c_str() + (hex ? 2 : 1), nullptr, hex ? 16 : 10);
+      if (code > 0 && code < 0x80)
+        out += static_cast<char>(code);
+      else
+        out += '?';  // names and numbers here are ASCII
+    } else {
+      fail("{}: malformed XML: unknown entity &{};", path, entity);
+    }
+    i = end;
+  }
   return out;
 }
 

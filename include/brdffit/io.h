@@ -82,6 +82,10 @@ std::string escape_markdown(const std::string& text);
 // "1 material", "3 materials": a count and its noun, plural unless the count is one.
 std::string count_of(size_t count, const std::string& noun);
 
+// "a", "a or b", "a, b or c": words for a sentence, the last two joined by `conjunction` ("or",
+// "and"); empty for none.
+std::string join_words(const std::vector<std::string>& words, const std::string& conjunction);
+
 // A CSV field: quoted, with quotes doubled, when it holds a comma, quote or line break. Every
 // CSV file brdffit writes goes through it.
 std::string csv_field(const std::string& text);

@@ -51,6 +51,8 @@ struct MetallicRoughness {
 
 MetallicRoughness metallic_roughness(const Rgb<double>& albedo, const Rgb<double>& f0, double roughness);
 
+// The material formats: MaterialFormat names one, material_formats() describes each (see
+// MaterialFormatInfo below). Adding a format: docs/architecture.md, "Adding a material format".
 enum class MaterialFormat { Gltf, OpenPbr, Mitsuba };
 const char* material_format_name(MaterialFormat format);
 // The format named (gltf, openpbr, mitsuba), or when `name` is empty the one implied by the
@@ -105,6 +107,41 @@ MaterialExport export_material(const FitDocument& document, const ExportRequest&
 std::string gltf_document(const Material& material, const nlohmann::json& provenance);
 std::string materialx_document(const Material& material, const std::string& comment);
 std::string mitsuba_document(const Material& material, const std::string& comment);
+
+// Where an exported material comes from, as its file records it: glTF in the material's extras
+// (`fields`), the XML formats in a comment (`comment`, one sentence).
+struct MaterialProvenance {
+  nlohmann::json fields;
+  std::string comment;
+};
+
+// One material format: everything export, import and the command line need of it. Each format's
+// entry, writer and reader are in its own file under src/formats/.
+struct MaterialFormatInfo {
+  MaterialFormat format;
+  const char* name;       // what --format accepts: "gltf"
+  const char* title;      // for help texts: "glTF 2.0"
+  const char* extension;  // of the files it writes and reads: ".gltf"
+  const char* files;      // its files in messages and help texts: ".gltf", "Mitsuba .xml (principled)"
+  const char* element;    // what a file holds one of per material: "material", "open_pbr_surface"
+  // The models it writes unchanged, in the order export looks for a fit of them; the first is the
+  // one it is named for.
+  std::vector<std::string> native_models;
+  // The native model a fit of another model is converted to; null: the first native model.
+  std::string (*conversion_target)(const std::string& source_model, const std::vector<double>& values);
+  // The file's text for a material of a native model; throws Error for another model.
+  std::string (*write)(const Material& material, const MaterialProvenance& provenance);
+  // Every material of the file at `path`, each as a native model, with warnings for what the model
+  // leaves out (see read_materials); throws Error naming the file.
+  std::vector<Material> (*read)(const std::string& path, std::vector<std::string>& warnings);
+};
+
+// Every format, in the order help texts and messages list them.
+const std::vector<MaterialFormatInfo>& material_formats();
+const MaterialFormatInfo& material_format_info(MaterialFormat format);
+// One field of every format for a sentence: material_format_list(&MaterialFormatInfo::name) is
+// "gltf, openpbr or mitsuba".
+std::string material_format_list(const char* MaterialFormatInfo::*field);
 
 // The largest material file read_materials reads (a real one is a few kilobytes).
 constexpr uint64_t kMaxMaterialFileBytes = uint64_t{16} << 20;
