@@ -394,6 +394,57 @@ TEST(ExportCli, TheOutputsExtensionPicksTheFormatAndAConflictingFormatIsAUsageEr
   EXPECT_FALSE(std::filesystem::exists(dir + "/x.mtlx.xml"));
 }
 
+// The table of formats (material_formats()): each entry is found by its key, its name and its
+// extension; its writer writes every native model (values inside the bounds, none the default)
+// and refuses the other formats' models; the file, read back through the table by its extension,
+// is the same material. The conversion of a ggx or principled fit lands on a native model.
+TEST(MaterialFormats, EachEntryWritesItsNativeModelsAndReadsThemBackThroughTheTable) {
+  const std::string dir = test::fresh_dir("material-formats");
+  std::set<std::string> names, extensions;
+  for (const MaterialFormatInfo& info : material_formats()) {
+    SCOPED_TRACE(info.name);
+    EXPECT_TRUE(names.insert(info.name).second);
+    EXPECT_TRUE(extensions.insert(info.extension).second);
+    EXPECT_EQ(&material_format_info(info.format), &info);
+    EXPECT_EQ(material_format(info.name, ""), info.format);
+    EXPECT_EQ(material_format("", dir + "/m" + info.extension), info.format);
+    EXPECT_EQ(material_format(info.name, dir + "/m" + info.extension), info.format);
+    for (const std::string& model_name : info.native_models) {
+      SCOPED_TRACE(model_name);
+      const Model& model = *find_model(model_name);
+      Material material{"m", model_name, {}};
+      for (const ParamSpec& p : model.parameters())
+        for (int c = 0; c < p.channels; ++c)
+          material.values.push_back(p.lower + (0.31 + 0.1 * c) * (p.upper - p.lower));
+      const std::string path = dir + "/" + model_name + info.extension;
+      write_file_atomic(path, info.write(material, {nlohmann::json::object(), "a comment"}));
+      std::vector<std::string> warnings;
+      const std::vector<Material> read = read_materials(path, warnings);
+      EXPECT_TRUE(warnings.empty()) << warnings.front();
+      ASSERT_EQ(read.size(), 1u);
+      EXPECT_EQ(read[0].name, "m");
+      EXPECT_EQ(read[0].model, model_name);
+      ASSERT_EQ(read[0].values.size(), material.values.size());
+      for (size_t i = 0; i < material.values.size(); ++i)
+        EXPECT_NEAR(read[0].values[i], material.values[i], 5e-9 * std::abs(material.values[i])) << i;
+    }
+    for (const MaterialFormatInfo& other : material_formats())
+      if (&other != &info) {
+        const Model& foreign = *find_model(other.native_models.front());
+        EXPECT_THROW(info.write({"m", foreign.name(), foreign.default_values()}, {}), Error) << foreign.name();
+      }
+    for (const auto& [source, assignments] :
+         {std::pair{"ggx", std::vector<std::string>{"albedo=0.3", "f0=0.04"}}, std::pair{"principled", kPrincipled}}) {
+      const std::vector<double> values = parameter_values(*find_model(source), assignments);
+      const std::string target =
+          info.conversion_target ? info.conversion_target(source, values) : info.native_models.front();
+      EXPECT_NE(std::find(info.native_models.begin(), info.native_models.end(), target), info.native_models.end())
+          << source << " -> " << target;
+    }
+  }
+  EXPECT_EQ(material_format_list(&MaterialFormatInfo::name), "gltf, openpbr or mitsuba");
+}
+
 TEST(ExportCli, RefusesPoorOrFailedVerdictsWithoutForce) {
   const std::string dir = test::fresh_dir("export-verdict");
   FitResult poor = fit_of("gltf", {"baseColor=0.5", "metallic=0", "roughness=0.5"});

@@ -1,11 +1,13 @@
-// The one base64 encoder (base64.h) and the XML escaping of text.cc (text.h), against values
-// worked out by hand from RFC 4648 and the XML 1.0 character rules.
+// The one base64 encoder (base64.h) and the XML escaping of text.cc (text.h) and its reverse,
+// against values worked out by hand from RFC 4648 and the XML 1.0 character rules.
 #include <gtest/gtest.h>
 
 #include <string>
 #include <vector>
 
 #include "brdffit/base64.h"
+#include "brdffit/error.h"
+#include "brdffit/io.h"
 #include "brdffit/text.h"
 
 namespace brdffit {
@@ -54,6 +56,31 @@ TEST(Text, XmlNameKeepsLettersDigitsAndUnderscoresAndNeverStartsWithADigit) {
   EXPECT_EQ(xml_name("blue-acrylic.v2"), "blue_acrylic_v2");
   EXPECT_EQ(xml_name("1 a"), "m_1_a");
   EXPECT_EQ(xml_name(""), "m_");
+}
+
+// The reverse of the escaping, for the XML brdffit reads: the five named entities and
+// character references in decimal and hex; a reference outside ASCII is '?'; a lone '&' or an
+// unknown entity is an error naming the file.
+TEST(Text, XmlUnescapeReplacesEntitiesAndRefusesMalformedOnes) {
+  EXPECT_EQ(xml_unescape("a&amp;b&lt;c&gt;&quot;d&quot;&apos;", "f.xml"), "a&b<c>\"d\"'");
+  EXPECT_EQ(xml_unescape("&#65;&#x42;&#X43;&#233;", "f.xml"), "ABC?");
+  EXPECT_EQ(xml_unescape(xml_text("x<y&z\""), "f.xml"), "x<y&z\"");  // escape_markup's &#39; too
+  EXPECT_EQ(xml_unescape(xml_text("it's"), "f.xml"), "it's");
+  EXPECT_THROW(xml_unescape("a & b", "f.xml"), Error);
+  try {
+    xml_unescape("&nbsp;", "f.xml");
+    ADD_FAILURE() << "an unknown entity was read";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), "f.xml: malformed XML: unknown entity &nbsp;");
+  }
+}
+
+// Words for a sentence (io.h): "a", "a or b", "a, b or c".
+TEST(Text, JoinWordsPutsTheConjunctionBeforeTheLastWord) {
+  EXPECT_EQ(join_words({}, "or"), "");
+  EXPECT_EQ(join_words({"a"}, "or"), "a");
+  EXPECT_EQ(join_words({"a", "b"}, "or"), "a or b");
+  EXPECT_EQ(join_words({"a", "b", "c"}, "and"), "a, b and c");
 }
 
 }  // namespace
