@@ -32,6 +32,8 @@ struct AshikhminShirley {
   static constexpr const char* kSummary =
       "albedo/π + specular·(n+1)/(8π)·(n·h)^n·F/(l·h·max(n·l,n·v)): Ashikhmin-Shirley (Ngan 2005)";
   static constexpr bool kEnergyConserving = true;
+  static constexpr bool kSeparateChannels = true;
+  static constexpr int kNumParameters = 4;
   enum : int { kAlbedo = 0, kSpecular = 3, kF0 = 6, kN = 7, kNumValues = 8 };
 
   static std::vector<ParamSpec> parameters() {

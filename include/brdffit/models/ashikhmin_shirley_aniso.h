@@ -28,6 +28,8 @@ struct AshikhminShirleyAniso {
       "albedo/π + specular·√((n_u+1)(n_v+1))/(8π)·(n·h)^(n_u cos²φh+n_v sin²φh)·F/(l·h·max(n·l,n·v)): "
       "anisotropic Ashikhmin-Shirley 2000, frame rotation phi0";
   static constexpr bool kEnergyConserving = true;
+  static constexpr bool kSeparateChannels = true;
+  static constexpr int kNumParameters = 6;
   enum : int { kAlbedo = 0, kSpecular = 3, kF0 = 6, kNu = 7, kNv = 8, kPhi0 = 9, kNumValues = 10 };
 
   static std::vector<ParamSpec> parameters() {

@@ -23,6 +23,8 @@ struct Banded {
   static constexpr const char* kName = "banded";
   static constexpr const char* kSummary = "albedo·⌈n·l·steps⌉/steps: n·l quantised into bands";
   static constexpr bool kEnergyConserving = false;
+  static constexpr bool kSeparateChannels = true;
+  static constexpr int kNumParameters = 2;
   enum : int { kAlbedo = 0, kSteps = 3, kNumValues = 4 };
 
   static std::vector<ParamSpec> parameters() {

@@ -18,6 +18,8 @@ struct Beckmann {
   static constexpr const char* kName = "beckmann";
   static constexpr const char* kSummary = "albedo/π + specular·D_Beckmann(h; m): Beckmann lobe";
   static constexpr bool kEnergyConserving = false;
+  static constexpr bool kSeparateChannels = true;
+  static constexpr int kNumParameters = 3;
   enum : int { kAlbedo = 0, kSpecular = 3, kM = 6, kNumValues = 7 };
 
   static std::vector<ParamSpec> parameters() {

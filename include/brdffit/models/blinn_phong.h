@@ -19,6 +19,8 @@ struct BlinnPhong {
   static constexpr const char* kName = "blinn-phong";
   static constexpr const char* kSummary = "albedo·n·l + specular·(n·h)^gloss: Blinn-Phong shading";
   static constexpr bool kEnergyConserving = false;
+  static constexpr bool kSeparateChannels = true;
+  static constexpr int kNumParameters = 3;
   enum : int { kAlbedo = 0, kSpecular = 3, kGloss = 6, kNumValues = 7 };
 
   static std::vector<ParamSpec> parameters() {

@@ -33,6 +33,8 @@ struct CookTorrance {
   static constexpr const char* kSummary =
       "albedo/π + specular·D·G·F/(π n·l n·v): Beckmann D, V-groove G, Schlick F (Ngan 2005)";
   static constexpr bool kEnergyConserving = false;
+  static constexpr bool kSeparateChannels = true;
+  static constexpr int kNumParameters = 4;
   enum : int { kAlbedo = 0, kSpecular = 3, kF0 = 6, kM = 7, kNumValues = 8 };
 
   static std::vector<ParamSpec> parameters() {

@@ -20,6 +20,8 @@ struct Gaussian {
   static constexpr const char* kName = "gaussian";
   static constexpr const char* kSummary = "albedo/π + specular·1.2·exp(-(θh/m)²): Gaussian lobe in the half angle";
   static constexpr bool kEnergyConserving = false;
+  static constexpr bool kSeparateChannels = true;
+  static constexpr int kNumParameters = 3;
   enum : int { kAlbedo = 0, kSpecular = 3, kM = 6, kNumValues = 7 };
 
   static std::vector<ParamSpec> parameters() {

@@ -25,6 +25,8 @@ struct Ggx {
   static constexpr const char* kSummary =
       "albedo/π + D·F·G/(4 n·l n·v): GGX/Trowbridge-Reitz, Schlick F, Schlick-Smith G, α = roughness²";
   static constexpr bool kEnergyConserving = true;
+  static constexpr bool kSeparateChannels = true;
+  static constexpr int kNumParameters = 3;
   enum : int { kAlbedo = 0, kRoughness = 3, kF0 = 4, kNumValues = 7 };
 
   static std::vector<ParamSpec> parameters() {

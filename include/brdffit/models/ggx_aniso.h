@@ -33,6 +33,8 @@ struct GgxAniso {
   static constexpr const char* kSummary =
       "albedo/π + D·F·G/(4 n·l n·v): anisotropic GGX (Walter 2007) with widths α_x, α_y and frame rotation phi0";
   static constexpr bool kEnergyConserving = true;
+  static constexpr bool kSeparateChannels = true;
+  static constexpr int kNumParameters = 5;
   enum : int { kAlbedo = 0, kF0 = 3, kAlphaX = 6, kAlphaY = 7, kPhi0 = 8, kNumValues = 9 };
 
   static std::vector<ParamSpec> parameters() {

@@ -93,6 +93,8 @@ struct Gltf {
   // than by what the lobe leaves, so baseColor 1 with metallic 0 and roughness 0.01 reflects 1.35
   // at θo = 80°.
   static constexpr bool kEnergyConserving = false;
+  static constexpr bool kSeparateChannels = true;
+  static constexpr int kNumParameters = 3;
   enum : int { kBaseColor = 0, kMetallic = 3, kRoughness = 4, kNumValues = 5 };
 
   static std::vector<ParamSpec> parameters() {

@@ -52,6 +52,8 @@ struct GltfClearcoat {
   static constexpr const char* kSummary =
       "core glTF + KHR_materials_clearcoat: metallic-roughness under a GGX coat (ior 1.5), mixed by c·F(n·v)";
   static constexpr bool kEnergyConserving = false;  // as gltf's base; the coat alone reflects at most 1
+  static constexpr bool kSeparateChannels = true;
+  static constexpr int kNumParameters = 5;
   enum : int { kBaseColor = 0, kMetallic = 3, kRoughness = 4, kClearcoat = 5, kClearcoatRoughness = 6, kNumValues = 7 };
   static_assert(int{kBaseColor} == int{Gltf::kBaseColor} && int{kMetallic} == int{Gltf::kMetallic} &&
                     int{kRoughness} == int{Gltf::kRoughness},

@@ -19,6 +19,8 @@ struct HalfLambert {
   static constexpr const char* kName = "half-lambert";
   static constexpr const char* kSummary = "albedo·(n·l·w + 1-w)²: Valve's half-Lambert wrap on the raw n·l";
   static constexpr bool kEnergyConserving = false;
+  static constexpr bool kSeparateChannels = true;
+  static constexpr int kNumParameters = 2;
   enum : int { kAlbedo = 0, kWrap = 3, kNumValues = 4 };
 
   static std::vector<ParamSpec> parameters() {

@@ -48,6 +48,8 @@ struct Lafortune {
       "albedo/π + specular·(n+2)/(2π)·(max(cxy(lx vx+ly vy)+cz lz vz, 0)/max(|cxy|,|cz|))^n: one Lafortune lobe "
       "(Ngan 2005)";
   static constexpr bool kEnergyConserving = false;
+  static constexpr bool kSeparateChannels = true;
+  static constexpr int kNumParameters = 5;
   enum : int { kAlbedo = 0, kSpecular = 3, kCxy = 6, kCz = 7, kN = 8, kNumValues = 9 };
 
   static std::vector<ParamSpec> parameters() {

@@ -16,6 +16,11 @@ struct Lambert {
   static constexpr const char* kName = "lambert";
   static constexpr const char* kSummary = "albedo/π · max(n·l,0): ideal diffuse (Lambert 1760)";
   static constexpr bool kEnergyConserving = true;
+  // Declared by a model whose channel c depends on its scalars and on component c of each colour
+  // only (no luminance, no maximum over channels), with its number of parameters: the fitter then
+  // carries one derivative per parameter rather than per value (src/internal/brdffit/separate_channels.h).
+  static constexpr bool kSeparateChannels = true;
+  static constexpr int kNumParameters = 1;
   enum : int { kAlbedo = 0, kNumValues = 3 };
 
   static std::vector<ParamSpec> parameters() { return {albedo_param()}; }

@@ -26,6 +26,8 @@ struct LowAshikhminShirley {
       "albedo/π + specular·(n+1)/(8π)·(n·h)^n·F_ck(η,l·h)/(l·h·max(n·l,n·v)): Ashikhmin-Shirley, Cook's Fresnel (Löw "
       "2012)";
   static constexpr bool kEnergyConserving = false;
+  static constexpr bool kSeparateChannels = true;
+  static constexpr int kNumParameters = 4;
   enum : int { kAlbedo = 0, kSpecular = 3, kN = 6, kEta = 7, kNumValues = 8 };
 
   static std::vector<ParamSpec> parameters() {

@@ -26,6 +26,8 @@ struct LowCookTorrance {
   static constexpr const char* kSummary =
       "albedo/π + specular·D·G·F_ck(η,l·h)/(π n·l n·v): Beckmann D without 1/π, V-groove G, Cook's Fresnel (Löw 2012)";
   static constexpr bool kEnergyConserving = false;
+  static constexpr bool kSeparateChannels = true;
+  static constexpr int kNumParameters = 4;
   enum : int { kAlbedo = 0, kSpecular = 3, kM = 6, kEta = 7, kNumValues = 8 };
 
   static std::vector<ParamSpec> parameters() {

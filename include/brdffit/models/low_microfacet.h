@@ -27,6 +27,8 @@ struct LowMicrofacet {
   static constexpr const char* kSummary =
       "albedo/π + A·(1+B(1−cosθh))^(−C)·G·F_ck(η,l·h)/(π n·l n·v): Löw 2012 microfacet (BBM LowMicrofacetFit)";
   static constexpr bool kEnergyConserving = false;
+  static constexpr bool kSeparateChannels = true;
+  static constexpr int kNumParameters = 5;
   enum : int { kAlbedo = 0, kA = 3, kB = 6, kC = 7, kEta = 8, kNumValues = 9 };
 
   static std::vector<ParamSpec> parameters() {

@@ -23,6 +23,8 @@ struct LowSmooth {
   static constexpr const char* kSummary =
       "albedo/π + A·(1+B|l_xy+v_xy|²)^(−C)·F_ck(η, cosθd): Löw 2012 smooth-surface ABC model (BBM lowsmooth)";
   static constexpr bool kEnergyConserving = false;
+  static constexpr bool kSeparateChannels = true;
+  static constexpr int kNumParameters = 5;
   enum : int { kAlbedo = 0, kA = 3, kB = 6, kC = 7, kEta = 8, kNumValues = 9 };
 
   static std::vector<ParamSpec> parameters() {

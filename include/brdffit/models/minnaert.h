@@ -15,6 +15,8 @@ struct Minnaert {
   static constexpr const char* kName = "minnaert";
   static constexpr const char* kSummary = "albedo·saturate(n·l·(n·l·n·v)^roughness): Minnaert limb darkening";
   static constexpr bool kEnergyConserving = false;
+  static constexpr bool kSeparateChannels = true;
+  static constexpr int kNumParameters = 2;
   enum : int { kAlbedo = 0, kRoughness = 3, kNumValues = 4 };
 
   static std::vector<ParamSpec> parameters() {

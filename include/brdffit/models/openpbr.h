@@ -164,6 +164,8 @@ struct OpenPbr {
   static constexpr const char* kSummary =
       "OpenPBR Surface, opaque base: EON diffuse under an exact-Fresnel GGX dielectric, F82-tint GGX metal";
   static constexpr bool kEnergyConserving = true;
+  static constexpr bool kSeparateChannels = true;
+  static constexpr int kNumParameters = 6;
   enum : int {
     kBaseColor = 0,
     kMetalness = 3,

@@ -22,6 +22,8 @@ struct OrenNayar {
   static constexpr const char* kName = "oren-nayar";
   static constexpr const char* kSummary = "albedo·n·l·(A + albedo·B + C·s): Oren-Nayar rough diffuse (shader form)";
   static constexpr bool kEnergyConserving = false;
+  static constexpr bool kSeparateChannels = true;
+  static constexpr int kNumParameters = 2;
   enum : int { kAlbedo = 0, kRoughness = 3, kNumValues = 4 };
 
   static std::vector<ParamSpec> parameters() {

@@ -24,6 +24,8 @@ struct Phong {
   static constexpr const char* kName = "phong";
   static constexpr const char* kSummary = "albedo·n·l + specular·(r·v)^shininess: Phong shading";
   static constexpr bool kEnergyConserving = false;
+  static constexpr bool kSeparateChannels = true;
+  static constexpr int kNumParameters = 3;
   enum : int { kAlbedo = 0, kSpecular = 3, kShininess = 6, kNumValues = 7 };
 
   static std::vector<ParamSpec> parameters() {

@@ -42,6 +42,8 @@ struct Sgd {
       "albedo/π + specular·D·G1G1·F/(π n·l n·v): Shifted Gamma Distribution, fitted shadowing, modified Schlick "
       "(Bagher 2012)";
   static constexpr bool kEnergyConserving = false;
+  static constexpr bool kSeparateChannels = true;
+  static constexpr int kNumParameters = 11;
   enum : int {
     kAlbedo = 0,
     kSpecular = 3,

@@ -27,6 +27,8 @@ struct Toon {
   static constexpr const char* kName = "toon";
   static constexpr const char* kSummary = "albedo·(light + spec + rim): cel shading with hard highlight and rim";
   static constexpr bool kEnergyConserving = false;
+  static constexpr bool kSeparateChannels = true;
+  static constexpr int kNumParameters = 5;
   enum : int { kAlbedo = 0, kSpecular = 3, kGlossiness = 6, kRimAmount = 7, kRimThreshold = 8, kNumValues = 9 };
 
   static std::vector<ParamSpec> parameters() {

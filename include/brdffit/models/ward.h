@@ -30,6 +30,8 @@ struct Ward {
   static constexpr const char* kName = "ward";
   static constexpr const char* kSummary = "albedo/π + specular·exp(-tan²θh/α²)/(4πα²√(n·l n·v)): isotropic Ward";
   static constexpr bool kEnergyConserving = false;
+  static constexpr bool kSeparateChannels = true;
+  static constexpr int kNumParameters = 3;
   enum : int { kAlbedo = 0, kSpecular = 3, kAlpha = 6, kNumValues = 7 };
 
   static std::vector<ParamSpec> parameters() {

@@ -25,6 +25,8 @@ struct WardAniso {
       "albedo/π + specular·exp(-tan²θh(cos²φh/α_x²+sin²φh/α_y²))/(4πα_xα_y√(n·l n·v)): anisotropic Ward, frame "
       "rotation phi0";
   static constexpr bool kEnergyConserving = false;
+  static constexpr bool kSeparateChannels = true;
+  static constexpr int kNumParameters = 5;
   enum : int { kAlbedo = 0, kSpecular = 3, kAlphaX = 6, kAlphaY = 7, kPhi0 = 8, kNumValues = 9 };
 
   static std::vector<ParamSpec> parameters() {

@@ -15,6 +15,8 @@ struct Wrap {
   static constexpr const char* kName = "wrap";
   static constexpr const char* kSummary = "albedo·saturate((n·l+wrap)/(1+wrap))^contrast: wrap lighting";
   static constexpr bool kEnergyConserving = false;
+  static constexpr bool kSeparateChannels = true;
+  static constexpr int kNumParameters = 3;
   enum : int { kAlbedo = 0, kWrap = 3, kContrast = 4, kNumValues = 5 };
 
   static std::vector<ParamSpec> parameters() {

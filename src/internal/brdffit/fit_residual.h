@@ -28,6 +28,7 @@
 #include "brdffit/model.h"
 #include "brdffit/model_eval.h"
 #include "brdffit/samples.h"
+#include "brdffit/separate_channels.h"
 
 namespace brdffit {
 
@@ -129,6 +130,7 @@ class BatchCost final : public ceres::CostFunction {
     for (int k = 0; k < num_free_; ++k) full[free[k]] = parameters[0][k];
 
     if (!jacobians || !jacobians[0]) return evaluate_cost_only(full.data(), residuals);
+    if constexpr (SeparateChannels<M>::value) return evaluate_per_parameter(full, residuals, jacobians[0]);
 
     // Differentiate with respect to the free values only; fixed values are constants.
     std::array<Jet, K> p;
@@ -159,6 +161,62 @@ class BatchCost final : public ceres::CostFunction {
   }
 
  private:
+  // Evaluate's derivatives for separate channels (separate_channels.h): one Jet slot per
+  // parameter, JᵀJ and Jᵀr per channel in slot space, then each channel's slots scattered to the
+  // free values they stand for in that channel. A fixed value gets no derivative.
+  bool evaluate_per_parameter(const std::array<double, K>& full, double* residuals, double* jacobian) const {
+    constexpr int W = M::kNumParameters;
+    using Jet = ceres::Jet<double, W>;
+    const ParameterSlots& slots = parameter_slots<M>();
+    std::array<int, K> free_position;  // the value's index among the free values, or -1
+    free_position.fill(-1);
+    for (int k = 0; k < num_free_; ++k) free_position[(*batch_.free_index)[k]] = k;
+    std::array<Jet, K> p;
+    for (int i = 0; i < K; ++i) {
+      p[i] = Jet(full[i]);
+      if (free_position[i] >= 0) p[i].v[slots.slot_of_value[i]] = 1.0;
+    }
+
+    std::array<Eigen::Matrix<double, W, W>, 3> jtj;
+    std::array<Eigen::Matrix<double, W, 1>, 3> jtr;
+    for (int c = 0; c < 3; ++c) {
+      jtj[c].setZero();
+      jtr[c].setZero();
+    }
+    double rr = 0.0;
+    for (size_t i = 0; i < batch_.count; ++i) {
+      const Sample& s = batch_.samples[i];
+      const Rgb<Jet> shade = shade_of<M>(p.data(), s.l, s.v);
+      const double sqrt_w = std::sqrt(metric_weight(batch_.metric, s.weight));
+      for (int c = 0; c < 3; ++c) {
+        if (!batch_.channels[c]) continue;
+        const Jet r = metric_residual(batch_.metric, shade[c], s.value[c]) * sqrt_w;
+        double value, scale;
+        detail::robustify(batch_.loss, r.a, value, scale);
+        const Eigen::Matrix<double, W, 1> grad = r.v * scale;
+        rr += value * value;
+        jtr[c] += value * grad;
+        jtj[c].template selfadjointView<Eigen::Upper>().rankUpdate(grad);
+      }
+    }
+    if (!std::isfinite(rr)) return false;
+
+    Eigen::MatrixXd free_jtj = Eigen::MatrixXd::Zero(num_free_, num_free_);
+    Eigen::VectorXd free_jtr = Eigen::VectorXd::Zero(num_free_);
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::Matrix<double, W, W> full_jtj = jtj[c].template selfadjointView<Eigen::Upper>();
+      for (int a = 0; a < W; ++a) {
+        const int fa = free_position[slots.value(a, c)];
+        if (fa < 0) continue;
+        free_jtr[fa] += jtr[c][a];
+        for (int b = 0; b < W; ++b)
+          if (const int fb = free_position[slots.value(b, c)]; fb >= 0) free_jtj(fa, fb) += full_jtj(a, b);
+      }
+    }
+    detail::compress(free_jtj, free_jtr, rr, residuals, jacobian);
+    return true;
+  }
+
   bool evaluate_cost_only(const double* full, double* residuals) const {
     return detail::evaluate_cost_only(
         batch_, num_free_, [full](const Sample& s) { return shade_of<M>(full, s.l, s.v); }, residuals);

@@ -5,16 +5,19 @@
 // A model struct provides kName, kSummary, kEnergyConserving, kNumValues, parameters(), and
 // either brdf<T>(p, l, v) (physically based: shade = f·max(n·l,0) is derived here) or
 // shade<T>(p, l, v) (stylised: the seed's shader expression without the light colour);
-// optionally nestings() (model.h: the simpler models it contains). The adapter is also the
+// optionally nestings() (model.h: the simpler models it contains) and kSeparateChannels with
+// kNumParameters (separate_channels.h: one derivative per parameter). The adapter is also the
 // model's BatchCostSource: the fitter's cost is a BatchCost<M> (fit_residual.h).
 #pragma once
 
 #include <ceres/jet.h>
 
+#include <stdexcept>
 #include <type_traits>
 
 #include "brdffit/fit_residual.h"
 #include "brdffit/model.h"
+#include "brdffit/separate_channels.h"
 
 namespace brdffit {
 
@@ -23,6 +26,9 @@ class ModelAdapter final : public Model, public BatchCostSource {
  public:
   ModelAdapter() : name_(M::kName), summary_(M::kSummary), params_(M::parameters()), nestings_(nestings_of<M>()) {
     static_assert(M::kNumValues > 0, "a model needs parameters");
+    if constexpr (SeparateChannels<M>::value)
+      if (parameter_slots<M>().slots() != M::kNumParameters || flattened_size(params_) != M::kNumValues)
+        throw std::logic_error(name_ + ": kNumParameters or kNumValues does not match parameters()");
   }
 
   const std::string& name() const override { return name_; }
@@ -44,6 +50,17 @@ class ModelAdapter final : public Model, public BatchCostSource {
   }
 
   Rgb<double> shade_with_jacobian(const double* values, const Vec3& l, const Vec3& v, double* jacobian) const override {
+    if constexpr (SeparateChannels<M>::value) {  // one derivative per parameter (separate_channels.h)
+      const ParameterSlots& slots = parameter_slots<M>();
+      using Jet = ceres::Jet<double, M::kNumParameters>;
+      Jet p[M::kNumValues];
+      for (int i = 0; i < M::kNumValues; ++i) p[i] = Jet(values[i], slots.slot_of_value[i]);
+      const Rgb<Jet> s = shade_of<M>(p, l, v);
+      for (int c = 0; c < 3; ++c)
+        for (int i = 0; i < M::kNumValues; ++i)
+          jacobian[c * M::kNumValues + i] = slots.enters(i, c) ? s[c].v[slots.slot_of_value[i]] : 0.0;
+      return Rgb<double>(s[0].a, s[1].a, s[2].a);
+    }
     using Jet = ceres::Jet<double, M::kNumValues>;
     Jet p[M::kNumValues];
     for (int i = 0; i < M::kNumValues; ++i) p[i] = Jet(values[i], i);
