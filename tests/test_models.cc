@@ -4,10 +4,14 @@
 
 #include <algorithm>
 #include <limits>
+#include <memory>
+#include <tuple>
 
 #include <nlohmann/json.hpp>
 
+#include "aniso_tables.h"
 #include "brdffit/error.h"
+#include "brdffit/fit_residual.h"
 #include "brdffit/model.h"
 #include "brdffit/registry.h"
 #include "test_util.h"
@@ -143,6 +147,58 @@ TEST(AllModels, AutodiffGradientsMatchCentralDifferences) {
         }
       }
     }
+  }
+}
+
+// Every model's own batch cost (BatchCost<M>, with one derivative per parameter where its
+// channels are separate) gives the cost, gradient and Gauss-Newton matrix (RᵀR = JᵀJ, Rᵀy = Jᵀr)
+// that its shade_with_jacobian gives through JacobianBatchCost (whose derivatives the test above
+// checks against central differences): for each metric, with and without a loss, with a colour
+// component and a scalar fixed and the blue channel not fitted.
+TEST(AllModels, TheirBatchCostMatchesTheirJacobian) {
+  std::mt19937_64 rng(3);
+  const ceres::CauchyLoss cauchy(0.05);
+  for (const auto& m : all_models()) {
+    SCOPED_TRACE(m->name());
+    const std::vector<double> truth = test::random_values(*m, rng);
+    const SampleSet data = test::anisotropic_samples(*m, truth, 200, 0.1, 4);
+    const std::vector<double> at = test::random_values(*m, rng);
+    std::vector<int> free;  // all but integers, the second value and the last scalar
+    int last_scalar = -1, offset = 0;
+    for (const ParamSpec& p : m->parameters()) {
+      if (p.channels == 1 && !p.integer) last_scalar = offset;
+      offset += p.channels;
+    }
+    offset = 0;
+    for (const ParamSpec& p : m->parameters())
+      for (int c = 0; c < p.channels; ++c, ++offset)
+        if (!p.integer && offset != 1 && offset != last_scalar) free.push_back(offset);
+    for (Metric metric : {Metric::Cosine, Metric::Log})
+      for (const ceres::LossFunction* loss :
+           {static_cast<const ceres::LossFunction*>(nullptr), static_cast<const ceres::LossFunction*>(&cauchy)}) {
+        const ResidualBatch batch{data.samples.data(), data.size(), metric, {true, true, false}, loss, &free, &at};
+        std::vector<double> x;
+        for (int i : free) x.push_back(at[i] * 1.01);
+        const double* parameters[] = {x.data()};
+        const int rows = int(free.size()) + 1, cols = int(free.size());
+        auto normal_equations = [&](const ceres::CostFunction& cost) {
+          std::vector<double> r(rows), j(rows * cols);
+          double* jacobians[] = {j.data()};
+          EXPECT_TRUE(cost.Evaluate(parameters, r.data(), jacobians));
+          const Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> jm(j.data(), rows,
+                                                                                                      cols);
+          const Eigen::Map<Eigen::VectorXd> rv(r.data(), rows);
+          return std::tuple{rv.squaredNorm(), Eigen::VectorXd(jm.transpose() * rv),
+                            Eigen::MatrixXd(jm.transpose() * jm)};
+        };
+        const std::unique_ptr<ceres::CostFunction> own(new_batch_cost(*m, batch));
+        const JacobianBatchCost from_jacobian(*m, batch);
+        const auto [rr1, g1, h1] = normal_equations(*own);
+        const auto [rr2, g2, h2] = normal_equations(from_jacobian);
+        EXPECT_NEAR(rr2, rr1, 1e-10 * rr1);
+        EXPECT_LT((g2 - g1).norm(), 1e-8 * (1 + g1.norm()));
+        EXPECT_LT((h2 - h1).norm(), 1e-8 * (1 + h1.norm()));
+      }
   }
 }
 

@@ -13,11 +13,8 @@
 #include "brdffit/csv_samples.h"
 #include "brdffit/error.h"
 #include "brdffit/fit.h"
-#include "brdffit/fit_residual.h"
 #include "brdffit/io.h"
 #include "brdffit/model.h"
-#include "brdffit/model_adapter.h"
-#include "brdffit/models/ggx.h"
 #include "brdffit/registry.h"
 #include "test_util.h"
 
@@ -129,43 +126,6 @@ TEST(TwoLobes, GltfExtensionNamesAreModelsNotLobes) {
   }
   EXPECT_EQ(parse_model_list("gltf,gltf-clearcoat,gltf+clearcoat,gltf+sheen").size(), 3u) << "an alias is its model";
   EXPECT_THROW(parse_model_list("gltf+shene"), UsageError);
-}
-
-// JacobianBatchCost on a registered model gives the same cost, gradient and Gauss-Newton
-// matrix (RᵀR = JᵀJ, Rᵀy = Jᵀr) as the templated BatchCost, for each metric and with a loss.
-TEST(TwoLobes, JacobianBatchCostMatchesBatchCost) {
-  const ModelAdapter<models::Ggx> ggx;
-  std::mt19937_64 rng(3);
-  const std::vector<double> truth = test::random_values(ggx, rng);
-  const SampleSet data = test::anisotropic_samples(ggx, truth, 200, 0.1, 4);
-  const std::vector<double> at = test::random_values(ggx, rng);
-  const std::vector<int> free = {0, 2, 3, 4, 6};  // the others fixed
-  const ceres::CauchyLoss cauchy(0.05);
-  for (Metric metric : {Metric::Cosine, Metric::Log, Metric::Relative})
-    for (const ceres::LossFunction* loss :
-         {static_cast<const ceres::LossFunction*>(nullptr), static_cast<const ceres::LossFunction*>(&cauchy)}) {
-      ResidualBatch batch{data.samples.data(), data.size(), metric, {true, true, false}, loss, &free, &at};
-      std::vector<double> x;
-      for (int i : free) x.push_back(at[i] * 1.01);
-      const double* parameters[] = {x.data()};
-      const int rows = int(free.size()) + 1, cols = int(free.size());
-      auto normal_equations = [&](const ceres::CostFunction& cost) {
-        std::vector<double> r(rows), j(rows * cols);
-        double* jacobians[] = {j.data()};
-        EXPECT_TRUE(cost.Evaluate(parameters, r.data(), jacobians));
-        const Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> jm(j.data(), rows,
-                                                                                                    cols);
-        const Eigen::Map<Eigen::VectorXd> rv(r.data(), rows);
-        return std::tuple{rv.squaredNorm(), Eigen::VectorXd(jm.transpose() * rv), Eigen::MatrixXd(jm.transpose() * jm)};
-      };
-      const BatchCost<models::Ggx> templated(batch);
-      const JacobianBatchCost dynamic(ggx, batch);
-      const auto [rr1, g1, h1] = normal_equations(templated);
-      const auto [rr2, g2, h2] = normal_equations(dynamic);
-      EXPECT_NEAR(rr2, rr1, 1e-10 * rr1);
-      EXPECT_LT((g2 - g1).norm(), 1e-8 * (1 + g1.norm()));
-      EXPECT_LT((h2 - h1).norm(), 1e-8 * (1 + h1.norm()));
-    }
 }
 
 // The two-lobe fit started from the one-lobe optimum (the exact nesting) ends no worse than it,
