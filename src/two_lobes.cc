@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cmath>
+#include <iterator>
 
 #include "brdffit/error.h"
 #include "brdffit/fit_residual.h"
@@ -10,11 +11,11 @@ namespace brdffit {
 
 namespace {
 
-// Components with more values than this are not supported (the largest registered model has 10).
+// Components with more values than this are refused (sgd, with 33; the next largest lobe has 10).
 constexpr int kMaxComponentValues = 32;
 constexpr const char* kSuffix = "_2";
 
-// Direction pairs at which a component's structure is checked.
+// Direction pairs at which a component's switching scale is checked.
 const std::array<std::pair<Vec3, Vec3>, 4>& probe_pairs() {
   static const std::array<std::pair<Vec3, Vec3>, 4> pairs = {
       std::pair{Vec3(0, 0, 1), Vec3(0, 0, 1)},
@@ -22,25 +23,6 @@ const std::array<std::pair<Vec3, Vec3>, 4>& probe_pairs() {
       {Vec3(0.3, -0.2, 0.93).normalized(), Vec3(-0.5, 0.4, 0.6).normalized()},
       {Vec3(0.9, 0.1, 0.3).normalized(), Vec3(0.1, 0.8, 0.5).normalized()}};
   return pairs;
-}
-
-// Whether `model` is albedo/π plus a lobe that does not depend on albedo, checked at the
-// defaults and the probe pairs.
-bool is_lobe_over_lambert(const Model& model) {
-  const ParamSpec* albedo = model.find_parameter("albedo");
-  if (!model.has_brdf() || !albedo || albedo->channels != 3 || albedo->role != Role::DiffuseColour ||
-      model.parameters().size() < 2 || model.num_values() > kMaxComponentValues)
-    return false;
-  std::vector<double> values = model.default_values();
-  const int offset = model.offset_of("albedo");
-  for (const auto& [l, v] : probe_pairs()) {
-    std::fill_n(values.begin() + offset, 3, 0.0);
-    const Rgb<double> without = model.shade(values.data(), l, v);
-    std::fill_n(values.begin() + offset, 3, 0.7);
-    const Rgb<double> with = model.shade(values.data(), l, v);
-    if (((with - without).array() - 0.7 * kInvPi * l.z()).abs().maxCoeff() > 1e-12) return false;
-  }
-  return true;
 }
 
 // The model's linear specular colour if setting it to 0 (with albedo 0) leaves nothing at the
@@ -58,7 +40,7 @@ const ParamSpec* switching_scale(const Model& model) {
           offset += q.channels;
         }
       }
-      std::fill_n(values.begin() + model.offset_of("albedo"), 3, 0.0);
+      std::fill_n(values.begin(), 3, 0.0);  // albedo
       std::fill_n(values.begin() + model.offset_of(p.name), p.channels, 0.0);
       for (const auto& [l, v] : probe_pairs()) vanishes = vanishes && model.shade(values.data(), l, v).isZero(0.0);
     }
@@ -70,22 +52,26 @@ const ParamSpec* switching_scale(const Model& model) {
 class TwoLobes final : public Model, public BatchCostSource {
  public:
   TwoLobes(const Model& first, const Model& second) : lobes_{&first, &second} {
-    for (const Model* lobe : lobes_)
-      if (!is_lobe_over_lambert(*lobe))
-        fail("model {}{}{}: {} is not a specular lobe over the Lambert base albedo/π, so it cannot be one of two lobes",
-             first.name(), kLobeSeparator, second.name(), lobe->name());
     name_ = first.name() + kLobeSeparator + second.name();
+    for (const Model* lobe : lobes_) {
+      if (!lobe->is_lobe_over_lambert())
+        fail("model {}: {} is not a specular lobe over the Lambert base albedo/π, so it cannot be one of two lobes",
+             name_, lobe->name());
+      if (lobe->num_values() > kMaxComponentValues)
+        fail("model {}: {} has {} values, more than the {} a lobe of two may have", name_, lobe->name(),
+             lobe->num_values(), kMaxComponentValues);
+    }
     const ParamSpec* second_scale = switching_scale(second);
     weighted_ = second_scale == nullptr;
     summary_ = "albedo/π + " + first.name() + " lobe + " + (weighted_ ? "weight_2 · " : "") + second.name() +
                " lobe: two specular lobes over one Lambert base";
 
-    params_.push_back(*first.find_parameter("albedo"));
+    params_.push_back(first.parameters().front());  // albedo
     for (int k = 0; k < 2; ++k) {
       const Model& lobe = *lobes_[k];
-      for (const ParamSpec& p : lobe.parameters()) {
-        for (int c = 0; c < p.channels; ++c) map_[k].push_back(p.name == "albedo" ? -1 : num_flattened_ + c);
-        if (p.name == "albedo") continue;
+      lobe_offset_[k] = num_flattened_;
+      for (auto it = std::next(lobe.parameters().begin()); it != lobe.parameters().end(); ++it) {
+        const ParamSpec& p = *it;
         ParamSpec renamed = p;
         if (k == 1) {
           renamed.name += kSuffix;
@@ -148,13 +134,16 @@ class TwoLobes final : public Model, public BatchCostSource {
   using Values = std::array<double, kMaxComponentValues>;
   using Jacobian = std::array<double, 3 * kMaxComponentValues>;
 
-  // The colour stored at values[0..2] (albedo is the composite's first parameter).
+  // The colour stored at values[0..2] (albedo is the composite's first parameter, as every lobe's).
   static Rgb<double> colour_of(const double* values) { return Rgb<double>(values[0], values[1], values[2]); }
+
+  // The composite's index of component k's value i (i >= 3: after the component's albedo).
+  int composite_index(int k, int i) const { return lobe_offset_[k] + i - 3; }
 
   // Component k's values taken from the composite's, with its albedo at 0 (the lobe alone).
   Values component_values(int k, const double* values) const {
     Values p{};
-    for (size_t i = 0; i < map_[k].size(); ++i) p[i] = map_[k][i] >= 0 ? values[map_[k][i]] : 0.0;
+    for (int i = 3; i < lobes_[k]->num_values(); ++i) p[i] = values[composite_index(k, i)];
     return p;
   }
 
@@ -163,9 +152,9 @@ class TwoLobes final : public Model, public BatchCostSource {
   void add_jacobian(int k, const Jacobian& component, const Rgb<double>& scale, double* jacobian) const {
     const int n = num_values(), m = lobes_[k]->num_values();
     for (int c = 0; c < 3; ++c)
-      for (int i = 0; i < m; ++i)
-        if (map_[k][i] >= 0 && !(k == 1 && is_scaled_linear(i)))
-          jacobian[c * n + map_[k][i]] += scale[c] * component[c * m + i];
+      for (int i = 3; i < m; ++i)
+        if (!(k == 1 && is_scaled_linear(i)))
+          jacobian[c * n + composite_index(k, i)] += scale[c] * component[c * m + i];
   }
 
   bool is_scaled_linear(int component_index) const {
@@ -247,7 +236,7 @@ class TwoLobes final : public Model, public BatchCostSource {
   }
 
   std::array<const Model*, 2> lobes_;
-  std::array<std::vector<int>, 2> map_;  // component value index -> composite value index, -1 for albedo
+  std::array<int, 2> lobe_offset_{};  // where each component's values after its albedo start in the composite's
   // Weighted second lobe: its linear colours, as (offset in the component, offset in the composite).
   std::vector<std::pair<int, int>> scaled_linear_;
   std::string name_, summary_;

@@ -84,6 +84,30 @@ TEST(Registry, AlbedoMeaningSaysWhetherItIsDividedByPi) {
   }
 }
 
+// What two-lobe composites rely on (two_lobes.h), declared by Model::is_lobe_over_lambert: the
+// albedo, a colour, comes first and enters f as albedo/π alone, the rest is a lobe that does not
+// depend on it. Checked at random values and directions for the models that declare it; and the
+// converse, so that a lobe over Lambert written out by hand rather than as models::OverLambert
+// is caught: a model that has parameters besides such an albedo declares it.
+TEST(Registry, LobesOverLambertAreDeclaredAsSuch) {
+  std::mt19937_64 rng(23);
+  for (const auto& m : all_models()) {
+    SCOPED_TRACE(m->name());
+    const ParamSpec& first = m->parameters().front();
+    bool albedo_over_pi = m->has_brdf() && first.name == "albedo" && first.channels == 3 &&
+                          first.role == Role::DiffuseColour && m->parameters().size() > 1;
+    for (int trial = 0; trial < 200 && albedo_over_pi; ++trial) {
+      std::vector<double> values = test::random_values(*m, rng);
+      const Vec3 l = test::random_direction_up_to(rng, 89.9), v = test::random_direction_up_to(rng, 89.9);
+      const Rgb<double> albedo(values[0], values[1], values[2]), with = *m->brdf(values.data(), l, v);
+      std::fill_n(values.begin(), 3, 0.0);
+      const Rgb<double> without = *m->brdf(values.data(), l, v);
+      albedo_over_pi = ((with - without - albedo * kInvPi).array().abs() <= 1e-12 * with.array().max(1.0)).all();
+    }
+    EXPECT_EQ(m->is_lobe_over_lambert(), albedo_over_pi);
+  }
+}
+
 // --- hand-derived values -------------------------------------------------------------------
 
 TEST(Lambert, HandValues) {

@@ -65,6 +65,10 @@ class Model {
 
   // The simpler models this one contains (see Nesting); empty for none.
   virtual const std::vector<Nesting>& nestings() const;
+  // f = albedo/π + a lobe that does not depend on albedo, albedo the first parameter (a colour):
+  // the models written as models::OverLambert (models/over_lambert.h), which two-lobe composites
+  // (two_lobes.h) combine.
+  virtual bool is_lobe_over_lambert() const { return false; }
 
   int num_values() const { return flattened_size(parameters()); }
   std::vector<double> default_values() const;

@@ -23,22 +23,21 @@
 // Contains: lambert exactly (specular = 0); blinn-phong approximately (n = gloss, a start only).
 #pragma once
 
-#include "brdffit/models/common.h"
+#include "brdffit/models/over_lambert.h"
 
 namespace brdffit::models {
 
-struct AshikhminShirley {
+struct AshikhminShirleyLobe : Lobe {
   static constexpr const char* kName = "ashikhmin-shirley";
   static constexpr const char* kSummary =
       "albedo/π + specular·(n+1)/(8π)·(n·h)^n·F/(l·h·max(n·l,n·v)): Ashikhmin-Shirley (Ngan 2005)";
   static constexpr bool kEnergyConserving = true;
   static constexpr bool kSeparateChannels = true;
-  static constexpr int kNumParameters = 4;
-  enum : int { kAlbedo = 0, kSpecular = 3, kF0 = 6, kN = 7, kNumValues = 8 };
+  static constexpr int kNumParameters = 3;
+  enum : int { kSpecular = 0, kF0 = 3, kN = 4, kNumValues = 5 };
 
   static std::vector<ParamSpec> parameters() {
-    return {albedo_param(),
-            specular_param(1.0, 0.2, "scale of the specular lobe per channel (Ngan's NganAshikhminShirley albedo)"),
+    return {specular_param(1.0, 0.2, "scale of the specular lobe per channel (Ngan's NganAshikhminShirley albedo)"),
             {"f0", 1, 0.0, 1.0, 0.1, "Fresnel reflectance at normal incidence (Schlick; Ngan's fresnelReflectance)",
              Role::F0, false, false, Spacing::Linear, "specular"},
             {"n", 1, 0.1, 100000.0, 50.0, "exponent on n·h: larger is a sharper lobe (Ngan's sharpness)",
@@ -51,16 +50,15 @@ struct AshikhminShirley {
   }
 
   template <class T>
-  static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
-    Rgb<T> f = lambert_term(p + kAlbedo);
+  static Rgb<T> lobe(const T* p, const Vec3& l, const Vec3& v) {
     const double nl = l.z(), nv = v.z();
-    if (nl <= 0.0 || nv <= 0.0) return f;
     const Vec3 h = half_vector(l, v);
     const double lh = l.dot(h);
-    const T lobe = (p[kN] + 1.0) / (8.0 * kPi) * pow_of_direction_term(h.z(), p[kN]) * schlick_fresnel(p[kF0], lh) /
-                   (lh * std::max(nl, nv));
-    return f + colour(p + kSpecular) * lobe;
+    const T unscaled = (p[kN] + 1.0) / (8.0 * kPi) * pow_of_direction_term(h.z(), p[kN]) * schlick_fresnel(p[kF0], lh) /
+                       (lh * std::max(nl, nv));
+    return colour(p + kSpecular) * unscaled;
   }
 };
+using AshikhminShirley = OverLambert<AshikhminShirleyLobe>;
 
 }  // namespace brdffit::models

@@ -17,27 +17,25 @@
 // a = n_u+1, b = n_v+1.
 #pragma once
 
-#include "brdffit/model.h"
-#include "brdffit/models/common.h"
+#include "brdffit/models/over_lambert.h"
 
 namespace brdffit::models {
 
-struct AshikhminShirleyAniso {
+struct AshikhminShirleyAnisoLobe : Lobe {
   static constexpr const char* kName = "ashikhmin-shirley-aniso";
   static constexpr const char* kSummary =
       "albedo/π + specular·√((n_u+1)(n_v+1))/(8π)·(n·h)^(n_u cos²φh+n_v sin²φh)·F/(l·h·max(n·l,n·v)): "
       "anisotropic Ashikhmin-Shirley 2000, frame rotation phi0";
   static constexpr bool kEnergyConserving = true;
   static constexpr bool kSeparateChannels = true;
-  static constexpr int kNumParameters = 6;
-  enum : int { kAlbedo = 0, kSpecular = 3, kF0 = 6, kNu = 7, kNv = 8, kPhi0 = 9, kNumValues = 10 };
+  static constexpr int kNumParameters = 5;
+  enum : int { kSpecular = 0, kF0 = 3, kNu = 4, kNv = 5, kPhi0 = 6, kNumValues = 7 };
 
   static std::vector<ParamSpec> parameters() {
     auto exponent = [](const char* name, const char* meaning) {
       return ParamSpec{name, 1, 0.1, 100000.0, 50.0, meaning, Role::Exponent, false, false, Spacing::Log};
     };
-    return {albedo_param(),
-            specular_param(1.0, 0.2, "scale of the specular lobe per channel"),
+    return {specular_param(1.0, 0.2, "scale of the specular lobe per channel"),
             {"f0", 1, 0.0, 1.0, 0.1, "Fresnel reflectance at normal incidence (Schlick)", Role::F0},
             exponent("n_u", "exponent along the tangent (x) axis: larger is sharper"),
             exponent("n_v", "exponent along the bitangent (y) axis"),
@@ -54,19 +52,18 @@ struct AshikhminShirleyAniso {
   }
 
   template <class T>
-  static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
+  static Rgb<T> lobe(const T* p, const Vec3& l, const Vec3& v) {
     using std::sqrt;
-    Rgb<T> f = lambert_term(p + kAlbedo);
     const double nl = l.z(), nv = v.z();
-    if (nl <= 0.0 || nv <= 0.0) return f;
     const Vec3 h = half_vector(l, v);
     const double lh = l.dot(h), sin2 = h.x() * h.x() + h.y() * h.y();
     const TangentXY<T> ht = in_tangent_frame(h, p[kPhi0]);
     const T e = sin2 > 0.0 ? T((p[kNu] * ht.x * ht.x + p[kNv] * ht.y * ht.y) / sin2) : T(p[kNu]);
-    const T lobe = sqrt((p[kNu] + 1.0) * (p[kNv] + 1.0)) / (8.0 * kPi) * pow_of_direction_term(h.z(), e) *
-                   schlick_fresnel(p[kF0], lh) / (lh * std::max(nl, nv));
-    return f + colour(p + kSpecular) * lobe;
+    const T unscaled = sqrt((p[kNu] + 1.0) * (p[kNv] + 1.0)) / (8.0 * kPi) * pow_of_direction_term(h.z(), e) *
+                       schlick_fresnel(p[kF0], lh) / (lh * std::max(nl, nv));
+    return colour(p + kSpecular) * unscaled;
   }
 };
+using AshikhminShirleyAniso = OverLambert<AshikhminShirleyAnisoLobe>;
 
 }  // namespace brdffit::models

@@ -10,21 +10,20 @@
 // Contains: lambert exactly (specular = 0); ggx approximately (m = roughness², a start only).
 #pragma once
 
-#include "brdffit/models/common.h"
+#include "brdffit/models/over_lambert.h"
 
 namespace brdffit::models {
 
-struct Beckmann {
+struct BeckmannLobe : Lobe {
   static constexpr const char* kName = "beckmann";
   static constexpr const char* kSummary = "albedo/π + specular·D_Beckmann(h; m): Beckmann lobe";
   static constexpr bool kEnergyConserving = false;
   static constexpr bool kSeparateChannels = true;
-  static constexpr int kNumParameters = 3;
-  enum : int { kAlbedo = 0, kSpecular = 3, kM = 6, kNumValues = 7 };
+  static constexpr int kNumParameters = 2;
+  enum : int { kSpecular = 0, kM = 3, kNumValues = 4 };
 
   static std::vector<ParamSpec> parameters() {
-    return {albedo_param(),
-            specular_param(10.0, 0.2, "scale of the Beckmann lobe per channel"),
+    return {specular_param(10.0, 0.2, "scale of the Beckmann lobe per channel"),
             {"m", 1, 0.005, 1.5, 0.3, "Beckmann roughness: RMS slope of the microfacets", Role::Roughness, false, false,
              Spacing::Log}};
   }
@@ -38,10 +37,14 @@ struct Beckmann {
              "ggx, approximately: m = roughness²"}};
   }
 
+  // The seed's lobe is a function of h alone, evaluated for any directions.
+  static bool lobe_vanishes(const Vec3& /*l*/, const Vec3& /*v*/) { return false; }
+
   template <class T>
-  static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
-    return lambert_term(p + kAlbedo) + colour(p + kSpecular) * beckmann_ndf(half_vector(l, v).z(), p[kM]);
+  static Rgb<T> lobe(const T* p, const Vec3& l, const Vec3& v) {
+    return colour(p + kSpecular) * beckmann_ndf(half_vector(l, v).z(), p[kM]);
   }
 };
+using Beckmann = OverLambert<BeckmannLobe>;
 
 }  // namespace brdffit::models

@@ -23,23 +23,22 @@
 // denominator the lobe's directional albedo reaches 4/π ≈ 1.27 (specular = f0 = 1, small m).
 #pragma once
 
-#include "brdffit/models/common.h"
 #include "brdffit/models/cook_terms.h"
+#include "brdffit/models/over_lambert.h"
 
 namespace brdffit::models {
 
-struct CookTorrance {
+struct CookTorranceLobe : Lobe {
   static constexpr const char* kName = "cook-torrance";
   static constexpr const char* kSummary =
       "albedo/π + specular·D·G·F/(π n·l n·v): Beckmann D, V-groove G, Schlick F (Ngan 2005)";
   static constexpr bool kEnergyConserving = false;
   static constexpr bool kSeparateChannels = true;
-  static constexpr int kNumParameters = 4;
-  enum : int { kAlbedo = 0, kSpecular = 3, kF0 = 6, kM = 7, kNumValues = 8 };
+  static constexpr int kNumParameters = 3;
+  enum : int { kSpecular = 0, kF0 = 3, kM = 4, kNumValues = 5 };
 
   static std::vector<ParamSpec> parameters() {
-    return {albedo_param(),
-            specular_param(1.0, 0.2, "scale of the specular lobe per channel (Ngan's NganCookTorrance albedo)"),
+    return {specular_param(1.0, 0.2, "scale of the specular lobe per channel (Ngan's NganCookTorrance albedo)"),
             {"f0", 1, 0.0, 1.0, 0.1, "Fresnel reflectance at normal incidence (Schlick); Ngan's 'eta'", Role::F0, false,
              false, Spacing::Linear, "specular"},
             {"m", 1, 0.001, 1.0, 0.2, "Beckmann roughness: RMS slope of the microfacets (Ngan's roughness)",
@@ -47,16 +46,15 @@ struct CookTorrance {
   }
 
   template <class T>
-  static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
-    Rgb<T> f = lambert_term(p + kAlbedo);
+  static Rgb<T> lobe(const T* p, const Vec3& l, const Vec3& v) {
     const double nl = l.z(), nv = v.z();
-    if (nl <= 0.0 || nv <= 0.0) return f;
     const Vec3 h = half_vector(l, v);
     const double nh = h.z(), lh = l.dot(h);
     const T d = beckmann_ndf(nh, p[kM]);
-    const T lobe = d * vgroove_masking(nh, nl, nv, lh) * schlick_fresnel(p[kF0], lh) / (kPi * nl * nv);
-    return f + colour(p + kSpecular) * lobe;
+    const T unscaled = d * vgroove_masking(nh, nl, nv, lh) * schlick_fresnel(p[kF0], lh) / (kPi * nl * nv);
+    return colour(p + kSpecular) * unscaled;
   }
 };
+using CookTorrance = OverLambert<CookTorranceLobe>;
 
 }  // namespace brdffit::models

@@ -12,35 +12,37 @@
 
 #include <cmath>
 
-#include "brdffit/models/common.h"
+#include "brdffit/models/over_lambert.h"
 
 namespace brdffit::models {
 
-struct Gaussian {
+struct GaussianLobe : Lobe {
   static constexpr const char* kName = "gaussian";
   static constexpr const char* kSummary = "albedo/π + specular·1.2·exp(-(θh/m)²): Gaussian lobe in the half angle";
   static constexpr bool kEnergyConserving = false;
   static constexpr bool kSeparateChannels = true;
-  static constexpr int kNumParameters = 3;
-  enum : int { kAlbedo = 0, kSpecular = 3, kM = 6, kNumValues = 7 };
+  static constexpr int kNumParameters = 2;
+  enum : int { kSpecular = 0, kM = 3, kNumValues = 4 };
 
   static std::vector<ParamSpec> parameters() {
-    return {albedo_param(),
-            specular_param(1000.0, 0.2, "scale of the Gaussian lobe per channel (1/sr)"),
+    return {specular_param(1000.0, 0.2, "scale of the Gaussian lobe per channel (1/sr)"),
             {"m", 1, 0.005, 1.5, 0.3, "width of the lobe in radians of the half angle", Role::Roughness, false, false,
              Spacing::Log}};
   }
 
   static std::vector<Nesting> nestings() { return {lambert_under_lobe()}; }
 
+  // The seed's lobe is a function of h alone, evaluated for any directions.
+  static bool lobe_vanishes(const Vec3& /*l*/, const Vec3& /*v*/) { return false; }
+
   template <class T>
-  static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
+  static Rgb<T> lobe(const T* p, const Vec3& l, const Vec3& v) {
     using std::exp;
     const double theta_h = std::acos(std::min(1.0, half_vector(l, v).z()));
     const T x = theta_h / p[kM];
-    const T lobe = 1.2 * exp(-x * x);
-    return lambert_term(p + kAlbedo) + colour(p + kSpecular) * lobe;
+    return colour(p + kSpecular) * (1.2 * exp(-x * x));
   }
 };
+using Gaussian = OverLambert<GaussianLobe>;
 
 }  // namespace brdffit::models

@@ -16,22 +16,21 @@
 // judges by how much).
 #pragma once
 
-#include "brdffit/models/common.h"
+#include "brdffit/models/over_lambert.h"
 
 namespace brdffit::models {
 
-struct Ggx {
+struct GgxLobe : Lobe {
   static constexpr const char* kName = "ggx";
   static constexpr const char* kSummary =
       "albedo/π + D·F·G/(4 n·l n·v): GGX/Trowbridge-Reitz, Schlick F, Schlick-Smith G, α = roughness²";
   static constexpr bool kEnergyConserving = true;
   static constexpr bool kSeparateChannels = true;
-  static constexpr int kNumParameters = 3;
-  enum : int { kAlbedo = 0, kRoughness = 3, kF0 = 4, kNumValues = 7 };
+  static constexpr int kNumParameters = 2;
+  enum : int { kRoughness = 0, kF0 = 1, kNumValues = 4 };
 
   static std::vector<ParamSpec> parameters() {
-    return {albedo_param(),
-            {"roughness", 1, 0.01, 1.0, 0.5, "perceptual roughness; the GGX width is alpha = roughness²",
+    return {{"roughness", 1, 0.01, 1.0, 0.5, "perceptual roughness; the GGX width is alpha = roughness²",
              Role::Roughness, false, false, Spacing::Log},
             {"f0", 3, 0.0, 1.0, 0.04, "specular reflectance at normal incidence per channel (Schlick F0)", Role::F0,
              /*linear=*/true}};
@@ -56,10 +55,8 @@ struct Ggx {
   }
 
   template <class T>
-  static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
+  static Rgb<T> lobe(const T* p, const Vec3& l, const Vec3& v) {
     const double nl = l.z(), nv = v.z();
-    Rgb<T> f = lambert_term(p + kAlbedo);
-    if (nl <= 0.0 || nv <= 0.0) return f;
     const Vec3 h = half_vector(l, v);
     const double nh = h.z(), lh = l.dot(h);
     const T alpha = p[kRoughness] * p[kRoughness];
@@ -69,9 +66,11 @@ struct Ggx {
     const T k = alpha * 0.5;
     const T g = nl / (nl * (1.0 - k) + k) * (nv / (nv * (1.0 - k) + k));
     const T dg = d * g / (4.0 * nl * nv);
-    for (int c = 0; c < 3; ++c) f[c] += dg * schlick_fresnel(p[kF0 + c], lh);
+    Rgb<T> f;
+    for (int c = 0; c < 3; ++c) f[c] = dg * schlick_fresnel(p[kF0 + c], lh);
     return f;
   }
 };
+using Ggx = OverLambert<GgxLobe>;
 
 }  // namespace brdffit::models

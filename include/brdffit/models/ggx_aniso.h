@@ -23,26 +23,24 @@
 // (1-l·h)^5 term that f0 = 0 leaves reflects 1.39 at θo = 80° for α_x = α_y = 1e-4).
 #pragma once
 
-#include "brdffit/model.h"
-#include "brdffit/models/common.h"
+#include "brdffit/models/over_lambert.h"
 
 namespace brdffit::models {
 
-struct GgxAniso {
+struct GgxAnisoLobe : Lobe {
   static constexpr const char* kName = "ggx-aniso";
   static constexpr const char* kSummary =
       "albedo/π + D·F·G/(4 n·l n·v): anisotropic GGX (Walter 2007) with widths α_x, α_y and frame rotation phi0";
   static constexpr bool kEnergyConserving = true;
   static constexpr bool kSeparateChannels = true;
-  static constexpr int kNumParameters = 5;
-  enum : int { kAlbedo = 0, kF0 = 3, kAlphaX = 6, kAlphaY = 7, kPhi0 = 8, kNumValues = 9 };
+  static constexpr int kNumParameters = 4;
+  enum : int { kF0 = 0, kAlphaX = 3, kAlphaY = 4, kPhi0 = 5, kNumValues = 6 };
 
   static std::vector<ParamSpec> parameters() {
     auto width = [](const char* name, const char* meaning) {
       return ParamSpec{name, 1, 1e-4, 1.0, 0.25, meaning, Role::Roughness, false, false, Spacing::Log};
     };
-    return {albedo_param(),
-            {"f0", 3, 0.0, 1.0, 0.04, "specular reflectance at normal incidence per channel (Schlick F0)", Role::F0,
+    return {{"f0", 3, 0.0, 1.0, 0.04, "specular reflectance at normal incidence per channel (Schlick F0)", Role::F0,
              /*linear=*/true},
             width("alpha_x", "GGX width along the tangent (x) axis (ggx's roughness²)"),
             width("alpha_y", "GGX width along the bitangent (y) axis"),
@@ -63,18 +61,17 @@ struct GgxAniso {
   }
 
   template <class T>
-  static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
+  static Rgb<T> lobe(const T* p, const Vec3& l, const Vec3& v) {
     using std::sqrt;
     const double nl = l.z(), nv = v.z();
-    Rgb<T> f = lambert_term(p + kAlbedo);
-    if (nl <= 0.0 || nv <= 0.0) return f;
     const Vec3 h = half_vector(l, v);
     const T ax = p[kAlphaX], ay = p[kAlphaY];
     const TangentXY<T> ht = in_tangent_frame(h, p[kPhi0]);
     const T stretched = (ht.x / ax) * (ht.x / ax) + (ht.y / ay) * (ht.y / ay) + h.z() * h.z();
     const T d = 1.0 / (kPi * ax * ay * stretched * stretched);
     const T dg = d * smith_g1(l, p) * smith_g1(v, p) / (4.0 * nl * nv);
-    for (int c = 0; c < 3; ++c) f[c] += dg * schlick_fresnel(p[kF0 + c], l.dot(h));
+    Rgb<T> f;
+    for (int c = 0; c < 3; ++c) f[c] = dg * schlick_fresnel(p[kF0 + c], l.dot(h));
     return f;
   }
 
@@ -92,5 +89,6 @@ struct GgxAniso {
     return d.z() / (d.z() * (1.0 - k) + k);
   }
 };
+using GgxAniso = OverLambert<GgxAnisoLobe>;
 
 }  // namespace brdffit::models

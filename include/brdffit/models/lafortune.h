@@ -38,23 +38,22 @@
 // Contains: lambert exactly (specular = 0).
 #pragma once
 
-#include "brdffit/models/common.h"
+#include "brdffit/models/over_lambert.h"
 
 namespace brdffit::models {
 
-struct Lafortune {
+struct LafortuneLobe : Lobe {
   static constexpr const char* kName = "lafortune";
   static constexpr const char* kSummary =
       "albedo/π + specular·(n+2)/(2π)·(max(cxy(lx vx+ly vy)+cz lz vz, 0)/max(|cxy|,|cz|))^n: one Lafortune lobe "
       "(Ngan 2005)";
   static constexpr bool kEnergyConserving = false;
   static constexpr bool kSeparateChannels = true;
-  static constexpr int kNumParameters = 5;
-  enum : int { kAlbedo = 0, kSpecular = 3, kCxy = 6, kCz = 7, kN = 8, kNumValues = 9 };
+  static constexpr int kNumParameters = 4;
+  enum : int { kSpecular = 0, kCxy = 3, kCz = 4, kN = 5, kNumValues = 6 };
 
   static std::vector<ParamSpec> parameters() {
-    return {albedo_param(),
-            specular_param(10.0, 0.2, "scale of the lobe per channel (Ngan's NganLafortune albedo)"),
+    return {specular_param(10.0, 0.2, "scale of the lobe per channel (Ngan's NganLafortune albedo)"),
             {"cxy", 1, -1.0, 1.0, -0.6,
              "lobe weight of the tangent-plane components (negative: forward scattering; Ngan's Cxy)", Role::Shape},
             {"cz", 1, 0.0, 1.0, 0.55, "lobe weight of the normal component (Ngan's Cz)", Role::Shape},
@@ -65,18 +64,17 @@ struct Lafortune {
   static std::vector<Nesting> nestings() { return {lambert_under_lobe()}; }
 
   template <class T>
-  static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
-    const Rgb<T> f = lambert_term(p + kAlbedo);
-    if (l.z() <= 0.0 || v.z() <= 0.0) return f;
+  static Rgb<T> lobe(const T* p, const Vec3& l, const Vec3& v) {
     const T c = abs_value(p[kCxy]) > abs_value(p[kCz]) ? abs_value(p[kCxy]) : abs_value(p[kCz]);
-    if (!(c > T(0.0))) return f;
+    if (!(c > T(0.0))) return Rgb<T>::Zero();
     const T base = (p[kCxy] * (l.x() * v.x() + l.y() * v.y()) + p[kCz] * (l.z() * v.z())) / c;
     // Below 1e-200 the lobe is under 1e-20 for every n in the bounds: taken as 0, so that the
     // derivative of log(base) cannot overflow for a subnormal base and give 0·∞ = NaN.
-    if (!(base > T(1e-200))) return f;
-    const T lobe = (p[kN] + 2.0) / (2.0 * kPi) * pow_pos(base, p[kN]);
-    return f + colour(p + kSpecular) * lobe;
+    if (!(base > T(1e-200))) return Rgb<T>::Zero();
+    const T unscaled = (p[kN] + 2.0) / (2.0 * kPi) * pow_pos(base, p[kN]);
+    return colour(p + kSpecular) * unscaled;
   }
 };
+using Lafortune = OverLambert<LafortuneLobe>;
 
 }  // namespace brdffit::models

@@ -16,23 +16,22 @@
 // Contains `lambert` exactly: specular = 0 switches the lobe off.
 #pragma once
 
-#include "brdffit/models/common.h"
 #include "brdffit/models/cook_terms.h"
+#include "brdffit/models/over_lambert.h"
 
 namespace brdffit::models {
 
-struct LowCookTorrance {
+struct LowCookTorranceLobe : Lobe {
   static constexpr const char* kName = "low-cook-torrance";
   static constexpr const char* kSummary =
       "albedo/π + specular·D·G·F_ck(η,l·h)/(π n·l n·v): Beckmann D without 1/π, V-groove G, Cook's Fresnel (Löw 2012)";
   static constexpr bool kEnergyConserving = false;
   static constexpr bool kSeparateChannels = true;
-  static constexpr int kNumParameters = 4;
-  enum : int { kAlbedo = 0, kSpecular = 3, kM = 6, kEta = 7, kNumValues = 8 };
+  static constexpr int kNumParameters = 3;
+  enum : int { kSpecular = 0, kM = 3, kEta = 4, kNumValues = 5 };
 
   static std::vector<ParamSpec> parameters() {
-    return {albedo_param(),
-            specular_param(2.0, 0.1, "scale of the specular lobe per channel (Löw's LowCookTorrance albedo)"),
+    return {specular_param(2.0, 0.1, "scale of the specular lobe per channel (Löw's LowCookTorrance albedo)"),
             {"m", 1, 0.001, 2.5, 0.2, "Beckmann roughness: RMS slope of the microfacets (Löw's roughness)",
              Role::Roughness, false, false, Spacing::Log},
             {"eta", 1, 1.0, 12.0, 1.5, "index of refraction of Cook's Fresnel (Löw's eta)", Role::F0}};
@@ -41,17 +40,17 @@ struct LowCookTorrance {
   static std::vector<Nesting> nestings() { return {lambert_under_lobe("specular")}; }
 
   template <class T>
-  static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
-    Rgb<T> f = lambert_term(p + kAlbedo);
+  static Rgb<T> lobe(const T* p, const Vec3& l, const Vec3& v) {
     const double nl = l.z(), nv = v.z();
-    if (nl <= 0.0 || nv <= 0.0) return f;
     const Vec3 h = half_vector(l, v);
     const double nh = h.z(), lh = l.dot(h);
-    if (lh <= 0.0) return f;
+    if (lh <= 0.0) return Rgb<T>::Zero();
     // π·beckmann_ndf is D without its 1/π; it cancels the π of the denominator.
-    const T lobe = beckmann_ndf(nh, p[kM]) * vgroove_masking(nh, nl, nv, lh) * cook_fresnel(p[kEta], lh) / (nl * nv);
-    return f + colour(p + kSpecular) * lobe;
+    const T unscaled =
+        beckmann_ndf(nh, p[kM]) * vgroove_masking(nh, nl, nv, lh) * cook_fresnel(p[kEta], lh) / (nl * nv);
+    return colour(p + kSpecular) * unscaled;
   }
 };
+using LowCookTorrance = OverLambert<LowCookTorranceLobe>;
 
 }  // namespace brdffit::models

@@ -17,23 +17,22 @@
 // Contains `lambert` exactly: A = 0 switches the lobe off.
 #pragma once
 
-#include "brdffit/models/common.h"
 #include "brdffit/models/cook_terms.h"
+#include "brdffit/models/over_lambert.h"
 
 namespace brdffit::models {
 
-struct LowMicrofacet {
+struct LowMicrofacetLobe : Lobe {
   static constexpr const char* kName = "low-microfacet";
   static constexpr const char* kSummary =
       "albedo/π + A·(1+B(1−cosθh))^(−C)·G·F_ck(η,l·h)/(π n·l n·v): Löw 2012 microfacet (BBM LowMicrofacetFit)";
   static constexpr bool kEnergyConserving = false;
   static constexpr bool kSeparateChannels = true;
-  static constexpr int kNumParameters = 5;
-  enum : int { kAlbedo = 0, kA = 3, kB = 6, kC = 7, kEta = 8, kNumValues = 9 };
+  static constexpr int kNumParameters = 4;
+  enum : int { kA = 0, kB = 3, kC = 4, kEta = 5, kNumValues = 6 };
 
   static std::vector<ParamSpec> parameters() {
-    return {albedo_param(),
-            {"A", 3, 0.0, 10000.0, 1.0, "unnormalised scale of the lobe per channel (Löw's A)", Role::SpecularColour,
+    return {{"A", 3, 0.0, 10000.0, 1.0, "unnormalised scale of the lobe per channel (Löw's A)", Role::SpecularColour,
              /*linear=*/true},
             {"B", 1, 1.0, 1e7, 100.0, "sharpness of the distribution of facet normals (Löw's B)", Role::Roughness,
              false, false, Spacing::Log},
@@ -45,18 +44,17 @@ struct LowMicrofacet {
   static std::vector<Nesting> nestings() { return {lambert_under_lobe("A")}; }
 
   template <class T>
-  static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
+  static Rgb<T> lobe(const T* p, const Vec3& l, const Vec3& v) {
     using std::pow;
-    Rgb<T> f = lambert_term(p + kAlbedo);
     const double nl = l.z(), nv = v.z();
-    if (nl <= 0.0 || nv <= 0.0) return f;
     const Vec3 h = half_vector(l, v);
     const double nh = h.z(), lh = l.dot(h);
-    if (nh <= 0.0 || lh <= 0.0) return f;
+    if (nh <= 0.0 || lh <= 0.0) return Rgb<T>::Zero();
     const T s = pow(1.0 + p[kB] * (1.0 - nh), -p[kC]);
-    const T lobe = s * vgroove_masking(nh, nl, nv, lh) * cook_fresnel(p[kEta], lh) / (kPi * nl * nv);
-    return f + colour(p + kA) * lobe;
+    const T unscaled = s * vgroove_masking(nh, nl, nv, lh) * cook_fresnel(p[kEta], lh) / (kPi * nl * nv);
+    return colour(p + kA) * unscaled;
   }
 };
+using LowMicrofacet = OverLambert<LowMicrofacetLobe>;
 
 }  // namespace brdffit::models

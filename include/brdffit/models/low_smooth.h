@@ -13,23 +13,22 @@
 // Contains `lambert` exactly: A = 0 switches the lobe off.
 #pragma once
 
-#include "brdffit/models/common.h"
 #include "brdffit/models/cook_terms.h"
+#include "brdffit/models/over_lambert.h"
 
 namespace brdffit::models {
 
-struct LowSmooth {
+struct LowSmoothLobe : Lobe {
   static constexpr const char* kName = "low-smooth";
   static constexpr const char* kSummary =
       "albedo/π + A·(1+B|l_xy+v_xy|²)^(−C)·F_ck(η, cosθd): Löw 2012 smooth-surface ABC model (BBM lowsmooth)";
   static constexpr bool kEnergyConserving = false;
   static constexpr bool kSeparateChannels = true;
-  static constexpr int kNumParameters = 5;
-  enum : int { kAlbedo = 0, kA = 3, kB = 6, kC = 7, kEta = 8, kNumValues = 9 };
+  static constexpr int kNumParameters = 4;
+  enum : int { kA = 0, kB = 3, kC = 4, kEta = 5, kNumValues = 6 };
 
   static std::vector<ParamSpec> parameters() {
-    return {albedo_param(),
-            {"A", 3, 0.0, 10000.0, 1.0, "unnormalised scale of the lobe per channel (Löw's A)", Role::SpecularColour,
+    return {{"A", 3, 0.0, 10000.0, 1.0, "unnormalised scale of the lobe per channel (Löw's A)", Role::SpecularColour,
              /*linear=*/true},
             {"B", 1, 1.0, 1e7, 100.0, "sharpness: how fast the lobe falls away from the mirror direction (Löw's B)",
              Role::Roughness, false, false, Spacing::Log},
@@ -39,17 +38,19 @@ struct LowSmooth {
 
   static std::vector<Nesting> nestings() { return {lambert_under_lobe("A")}; }
 
+  // Evaluated at the horizon too, as BBM's lowsmooth (its formula is finite there).
+  static bool lobe_vanishes(const Vec3& l, const Vec3& v) { return l.z() < 0.0 || v.z() < 0.0; }
+
   template <class T>
-  static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
+  static Rgb<T> lobe(const T* p, const Vec3& l, const Vec3& v) {
     using std::pow;
-    Rgb<T> f = lambert_term(p + kAlbedo);
-    if (l.z() < 0.0 || v.z() < 0.0) return f;
     const double sum_x = l.x() + v.x(), sum_y = l.y() + v.y();
     const double diff_x = l.x() - v.x(), diff_y = l.y() - v.y();
     const double cos_theta_d = std::sqrt(std::max(0.0, 1.0 - 0.25 * (diff_x * diff_x + diff_y * diff_y)));
-    const T lobe = pow(1.0 + p[kB] * (sum_x * sum_x + sum_y * sum_y), -p[kC]) * cook_fresnel(p[kEta], cos_theta_d);
-    return f + colour(p + kA) * lobe;
+    const T unscaled = pow(1.0 + p[kB] * (sum_x * sum_x + sum_y * sum_y), -p[kC]) * cook_fresnel(p[kEta], cos_theta_d);
+    return colour(p + kA) * unscaled;
   }
 };
+using LowSmooth = OverLambert<LowSmoothLobe>;
 
 }  // namespace brdffit::models

@@ -32,31 +32,30 @@
 // approximately (see nestings()).
 #pragma once
 
-#include "brdffit/models/common.h"
+#include "brdffit/models/over_lambert.h"
 
 namespace brdffit::models {
 
-struct Sgd {
+struct SgdLobe : Lobe {
   static constexpr const char* kName = "sgd";
   static constexpr const char* kSummary =
       "albedo/π + specular·D·G1G1·F/(π n·l n·v): Shifted Gamma Distribution, fitted shadowing, modified Schlick "
       "(Bagher 2012)";
   static constexpr bool kEnergyConserving = false;
   static constexpr bool kSeparateChannels = true;
-  static constexpr int kNumParameters = 11;
+  static constexpr int kNumParameters = 10;
   enum : int {
-    kAlbedo = 0,
-    kSpecular = 3,
-    kAlpha = 6,
-    kP = 9,
-    kF0 = 12,
-    kF1 = 15,
-    kK = 18,
-    kLambda = 21,
-    kC = 24,
-    kKExponent = 27,
-    kTheta0 = 30,
-    kNumValues = 33
+    kSpecular = 0,
+    kAlpha = 3,
+    kP = 6,
+    kF0 = 9,
+    kF1 = 12,
+    kK = 15,
+    kLambda = 18,
+    kC = 21,
+    kKExponent = 24,
+    kTheta0 = 27,
+    kNumValues = 30
   };
   static constexpr double kMaxShadowingExponent = 50.0;      // cap of c(θ−θ0)^k before exp
   static constexpr double kLogEpsilon = -36.04365338911715;  // ln of machine ε (2⁻⁵²): t^p ≤ ε gives D = 0
@@ -66,7 +65,6 @@ struct Sgd {
     // bounds cover their 10-90 % range and more (the published values of a few materials lie
     // outside: they still score, unclamped); K's default is BBM's.
     return {
-        albedo_param(),
         specular_param(5.0, 0.12, "scale of the specular lobe per channel (Bagher's albedo)"),
         {"alpha", 3, 1e-5, 1.0, 0.025, "SGD width α: smaller is a sharper highlight", Role::Roughness, false, false,
          Spacing::Log},
@@ -119,12 +117,11 @@ struct Sgd {
   }
 
   template <class T>
-  static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
+  static Rgb<T> lobe(const T* p, const Vec3& l, const Vec3& v) {
     using std::exp;
     using std::log;
-    Rgb<T> f = lambert_term(p + kAlbedo);
+    Rgb<T> f = Rgb<T>::Zero();
     const double nl = l.z(), nv = v.z();
-    if (nl <= 0.0 || nv <= 0.0) return f;
     const Vec3 h = half_vector(l, v);
     const double nh = h.z(), lh = l.dot(h);
     if (nh <= 1e-6 || lh <= 0.0) return f;
@@ -140,10 +137,11 @@ struct Sgd {
       const T g = shadowing(p, c, theta_l) * shadowing(p, c, theta_v);
       T fresnel = p[kF0 + c] + (1.0 - p[kF0 + c]) * schlick - p[kF1 + c] * lh;
       if (!(fresnel > T(0.0))) fresnel = T(0.0);
-      f[c] += p[kSpecular + c] * d * g * fresnel / (kPi * nl * nv);
+      f[c] = p[kSpecular + c] * d * g * fresnel / (kPi * nl * nv);
     }
     return f;
   }
 };
+using Sgd = OverLambert<SgdLobe>;
 
 }  // namespace brdffit::models

@@ -22,21 +22,20 @@
 // a start only).
 #pragma once
 
-#include "brdffit/models/common.h"
+#include "brdffit/models/over_lambert.h"
 
 namespace brdffit::models {
 
-struct Ward {
+struct WardLobe : Lobe {
   static constexpr const char* kName = "ward";
   static constexpr const char* kSummary = "albedo/π + specular·exp(-tan²θh/α²)/(4πα²√(n·l n·v)): isotropic Ward";
   static constexpr bool kEnergyConserving = false;
   static constexpr bool kSeparateChannels = true;
-  static constexpr int kNumParameters = 3;
-  enum : int { kAlbedo = 0, kSpecular = 3, kAlpha = 6, kNumValues = 7 };
+  static constexpr int kNumParameters = 2;
+  enum : int { kSpecular = 0, kAlpha = 3, kNumValues = 4 };
 
   static std::vector<ParamSpec> parameters() {
-    return {albedo_param(),
-            specular_param(1.0, 0.2, "specular reflectance of the lobe per channel (Ngan's NganWard albedo)"),
+    return {specular_param(1.0, 0.2, "specular reflectance of the lobe per channel (Ngan's NganWard albedo)"),
             {"alpha", 1, 0.001, 1.0, 0.2, "RMS slope of the surface: the width of the lobe (Ngan's roughness)",
              Role::Roughness, false, false, Spacing::Log}};
   }
@@ -49,15 +48,14 @@ struct Ward {
   }
 
   template <class T>
-  static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
-    Rgb<T> f = lambert_term(p + kAlbedo);
+  static Rgb<T> lobe(const T* p, const Vec3& l, const Vec3& v) {
     const double nl = l.z(), nv = v.z();
-    if (nl <= 0.0 || nv <= 0.0) return f;
     // exp(-tan²θh/α²)/(πα²) is Beckmann's D times cos⁴θh.
     const double nh = half_vector(l, v).z();
-    const T lobe = beckmann_ndf(nh, p[kAlpha]) * std::pow(nh, 4) / (4.0 * std::sqrt(nl * nv));
-    return f + colour(p + kSpecular) * lobe;
+    const T unscaled = beckmann_ndf(nh, p[kAlpha]) * std::pow(nh, 4) / (4.0 * std::sqrt(nl * nv));
+    return colour(p + kSpecular) * unscaled;
   }
 };
+using Ward = OverLambert<WardLobe>;
 
 }  // namespace brdffit::models

@@ -14,26 +14,25 @@
 // Not energy conserving, for the reason given in ward.h (1/√(n·v) at grazing view).
 #pragma once
 
-#include "brdffit/model.h"
-#include "brdffit/models/common.h"
+#include "brdffit/models/over_lambert.h"
 
 namespace brdffit::models {
 
-struct WardAniso {
+struct WardAnisoLobe : Lobe {
   static constexpr const char* kName = "ward-aniso";
   static constexpr const char* kSummary =
       "albedo/π + specular·exp(-tan²θh(cos²φh/α_x²+sin²φh/α_y²))/(4πα_xα_y√(n·l n·v)): anisotropic Ward, frame "
       "rotation phi0";
   static constexpr bool kEnergyConserving = false;
   static constexpr bool kSeparateChannels = true;
-  static constexpr int kNumParameters = 5;
-  enum : int { kAlbedo = 0, kSpecular = 3, kAlphaX = 6, kAlphaY = 7, kPhi0 = 8, kNumValues = 9 };
+  static constexpr int kNumParameters = 4;
+  enum : int { kSpecular = 0, kAlphaX = 3, kAlphaY = 4, kPhi0 = 5, kNumValues = 6 };
 
   static std::vector<ParamSpec> parameters() {
     auto width = [](const char* name, const char* meaning) {
       return ParamSpec{name, 1, 0.001, 1.0, 0.2, meaning, Role::Roughness, false, false, Spacing::Log};
     };
-    return {albedo_param(), specular_param(1.0, 0.2, "specular reflectance of the lobe per channel"),
+    return {specular_param(1.0, 0.2, "specular reflectance of the lobe per channel"),
             width("alpha_x", "RMS slope along the tangent (x) axis"),
             width("alpha_y", "RMS slope along the bitangent (y) axis"), tangent_rotation_param()};
   }
@@ -48,19 +47,18 @@ struct WardAniso {
   }
 
   template <class T>
-  static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
+  static Rgb<T> lobe(const T* p, const Vec3& l, const Vec3& v) {
     using std::exp;
-    Rgb<T> f = lambert_term(p + kAlbedo);
     const double nl = l.z(), nv = v.z();
-    if (nl <= 0.0 || nv <= 0.0) return f;
     const Vec3 h = half_vector(l, v);
-    if (h.z() <= 1e-6) return f;  // the exponential is 0 in double precision
+    if (h.z() <= 1e-6) return Rgb<T>::Zero();  // the exponential is 0 in double precision
     const T ax = p[kAlphaX], ay = p[kAlphaY];
     const TangentXY<T> ht = in_tangent_frame(h, p[kPhi0]);
     const T exponent = ((ht.x / ax) * (ht.x / ax) + (ht.y / ay) * (ht.y / ay)) / (h.z() * h.z());
-    const T lobe = exp(-exponent) / (4.0 * kPi * ax * ay * std::sqrt(nl * nv));
-    return f + colour(p + kSpecular) * lobe;
+    const T unscaled = exp(-exponent) / (4.0 * kPi * ax * ay * std::sqrt(nl * nv));
+    return colour(p + kSpecular) * unscaled;
   }
 };
+using WardAniso = OverLambert<WardAnisoLobe>;
 
 }  // namespace brdffit::models

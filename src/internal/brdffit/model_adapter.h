@@ -6,8 +6,9 @@
 // either brdf<T>(p, l, v) (physically based: shade = f·max(n·l,0) is derived here) or
 // shade<T>(p, l, v) (stylised: the seed's shader expression without the light colour);
 // optionally nestings() (model.h: the simpler models it contains) and kSeparateChannels with
-// kNumParameters (separate_channels.h: one derivative per parameter). The adapter is also the
-// model's BatchCostSource: the fitter's cost is a BatchCost<M> (fit_residual.h).
+// kNumParameters (separate_channels.h: one derivative per parameter). A lobe over the Lambert
+// base is a models::OverLambert (models/over_lambert.h). The adapter is also the model's
+// BatchCostSource: the fitter's cost is a BatchCost<M> (fit_residual.h).
 #pragma once
 
 #include <ceres/jet.h>
@@ -17,6 +18,7 @@
 
 #include "brdffit/fit_residual.h"
 #include "brdffit/model.h"
+#include "brdffit/models/over_lambert.h"
 #include "brdffit/separate_channels.h"
 
 namespace brdffit {
@@ -71,6 +73,7 @@ class ModelAdapter final : public Model, public BatchCostSource {
   }
 
   const std::vector<Nesting>& nestings() const override { return nestings_; }
+  bool is_lobe_over_lambert() const override { return models::IsOverLambert<M>::value; }
 
   ceres::CostFunction* new_batch_cost(const ResidualBatch& batch) const override { return new BatchCost<M>(batch); }
 

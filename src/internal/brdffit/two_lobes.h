@@ -1,6 +1,7 @@
 // Two specular lobes over one Lambert base, composed at run time from any two registered
-// models that are a lobe over the Lambert base albedo/π (ggx, cook-torrance, beckmann, ward,
-// ashikhmin-shirley, the anisotropic ones, ...). Users ask for "FIRST+SECOND", e.g. ggx+ggx.
+// models that are a lobe over the Lambert base albedo/π (Model::is_lobe_over_lambert: ggx,
+// cook-torrance, beckmann, ward, ashikhmin-shirley, the anisotropic ones, ...). Users ask for
+// "FIRST+SECOND", e.g. ggx+ggx.
 //
 //   f = albedo/π + lobe₁(values₁) + w · lobe₂(values₂)        (per colour channel)
 //
@@ -32,7 +33,7 @@ namespace brdffit {
 constexpr char kLobeSeparator = '+';
 
 // The composite of two lobe models. Throws Error when a component is not a lobe over the
-// Lambert base albedo/π.
+// Lambert base albedo/π, or has more values than the composite supports (sgd's 33).
 std::unique_ptr<Model> make_two_lobes(const Model& first, const Model& second);
 
 }  // namespace brdffit
