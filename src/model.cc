@@ -54,6 +54,11 @@ const std::vector<Nesting>& Model::nestings() const {
   return none;
 }
 
+const RecoveryFacts& Model::recovery_facts() const {
+  static const RecoveryFacts none;
+  return none;
+}
+
 std::vector<double> embed_values(const Model& outer, const Nesting& nesting, const Model& inner,
                                  const std::vector<double>& inner_values) {
   std::vector<double> values = outer.default_values();

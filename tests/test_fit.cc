@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
-#include <map>
 #include <set>
 #include <type_traits>
 
@@ -39,46 +38,22 @@ std::vector<double> truth_for(const Model& model) {
   return values;
 }
 
-// The truth where the middle of a range is not a material: the middle of Löw's A (0 to 10⁴) is a
-// lobe a thousand times the albedo, and the middle of sgd's ranges a near-mirror (α = 6e-4) with a
-// shadowing that never acts (c·(θ−θ0)^k ≈ 0); 6000 samples do not determine the albedo under the
-// one nor the shadowing in the other, and the stddevs say so. These are in the range of the
-// published fits instead, away from the fitter's defaults.
-// The middle of a width's log range is a near-mirror too (ggx α = 0.006, ggx-aniso α_x = 0.0025,
-// ward α = 0.011, cook-torrance m = 0.022): random direction pairs fall in such a lobe a fraction
-// of order α² of the time, a handful of the samples, so its height and Fresnel rest on those few
-// and on the tails. Measured over 8 noise seeds at 1 % noise, the estimates then scattered far
-// beyond 2 %: cook-torrance's and low-cook-torrance's specular by 9 % (26 % at worst, specular
-// against f0 or eta), ggx-aniso's f0 by 4.7 %, ggx's f0 by 2.6 %, gltf's baseColor by 2 %, and
-// beckmann's and gaussian's albedo by 1-2 % under a peak of 1.2·specular = 400-800. These take
-// glossy widths as in the published fits of MERL (α or m 0.1-0.3; Löw's B 50, not 280; gltf+clearcoat's coat
-// α = 0.04 over its base's 0.16), where
-// hundreds of samples see the lobe, and gaussian a peak a few times the albedo; wrap a contrast
-// of 3, whose falloff separates it from wrap (at contrast 1.4 wrap scattered by 1.3 %).
+// The truth: the middle of every range, except where the model's RecoveryFacts::material says
+// otherwise (model.h), because that middle is no material a fit could recover. The middle of
+// Löw's A (0 to 10⁴) is a lobe a thousand times the albedo, and the middle of sgd's ranges a
+// near-mirror (α = 6e-4) with a shadowing that never acts: 6000 samples do not determine the
+// albedo under the one nor the shadowing in the other, and the stddevs say so. The middle of a
+// width's log range is a near-mirror too (ggx α = 0.006): random direction pairs fall in such a
+// lobe a fraction of order α² of the time, a handful of the samples, so its height and Fresnel
+// rest on those few and on the tails; measured over 8 noise seeds at 1 % noise, the estimates
+// then scattered far beyond 2 % (each model's figures are beside its material). The materials
+// take widths as in the published fits of MERL (α or m 0.1-0.3), where hundreds of samples see
+// the lobe, away from the fitter's defaults.
 std::vector<double> recovery_truth(const Model& model) {
   std::vector<double> values = truth_for(model);
-  const std::map<std::string, std::vector<std::string>> overrides = {
-      {"sgd",
-       {"specular=0.3,0.4,0.5", "alpha=0.04,0.05,0.06", "p=0.6,0.7,0.8", "f0=0.2,0.25,0.3", "f1=0.1,0.1,0.1",
-        "K=10,10,10", "lambda=1.5,1.5,1.5", "c=0.3,0.3,0.3", "k=3,3,3", "theta0=0.4,0.4,0.4"}},
-      {"low-smooth", {"A=3,4,5", "B=50"}},
-      {"low-microfacet", {"A=3,4,5", "B=50"}},
-      {"low-cook-torrance", {"m=0.3"}},
-      {"gaussian", {"specular=3,4,5", "m=0.2"}},
-      {"beckmann", {"m=0.2"}},
-      {"cook-torrance", {"m=0.3"}},
-      {"ggx", {"roughness=0.4"}},
-      {"gltf", {"roughness=0.4"}},
-      {"gltf+clearcoat", {"roughness=0.4", "clearcoatRoughnessFactor=0.2"}},
-      {"gltf+sheen", {"roughness=0.4"}},
-      {"gltf+clearcoat+sheen", {"roughness=0.4", "clearcoatRoughnessFactor=0.2"}},
-      {"ggx-aniso", {"alpha_x=0.1", "alpha_y=0.2"}},
-      {"ward", {"alpha=0.15"}},
-      {"wrap", {"contrast=3"}}};
-  const auto it = overrides.find(model.name());
-  if (it == overrides.end()) return values;
-  const std::vector<double> overridden = parameter_values(model, it->second);
-  for (const std::string& assignment : it->second) {
+  const std::vector<std::string>& material = model.recovery_facts().material;
+  const std::vector<double> overridden = parameter_values(model, material);
+  for (const std::string& assignment : material) {
     const ParamSpec& p = *model.find_parameter(assignment.substr(0, assignment.find('=')));
     const int offset = model.offset_of(p.name);
     std::copy_n(overridden.begin() + offset, p.channels, values.begin() + offset);
@@ -86,12 +61,17 @@ std::vector<double> recovery_truth(const Model& model) {
   return values;
 }
 
-// Models whose values a table determines one by one; the others are FitTradeOff's.
+bool is_not_identifiable(const Model& model, const std::string& parameter) {
+  const std::vector<std::string>& names = model.recovery_facts().not_identifiable;
+  return std::count(names.begin(), names.end(), parameter) > 0;
+}
+
+// Models whose values a table determines one by one (but for their not_identifiable ones); the
+// others, whose values trade off, are FitTradeOff's.
 std::vector<std::string> identifiable_models() {
-  const std::set<std::string> trade_off = {"gltf-specular", "openpbr", "principled", "mitsuba-principled", "sgd"};
   std::vector<std::string> names;
   for (const auto& m : all_models())
-    if (!trade_off.count(m->name())) names.push_back(m->name());
+    if (!m->recovery_facts().trade_off) names.push_back(m->name());
   return names;
 }
 
@@ -115,11 +95,11 @@ TEST_P(FitRecovery, RecoversKnownParameters) {
   // The optimiser's own test: the fit is at least as good as the truth on these data.
   const double truth_error = evaluate_metrics(*m, truth, data).get(options.metric);
   EXPECT_LE(fit.metrics.get(options.metric), truth_error * 1.001);
-  // Every parameter is determined by these data, except Lafortune's axis, which is only
-  // determined up to scale (LafortuneAxisIsDeterminedOnlyUpToScale).
+  // Every parameter is determined by these data, except those the model declares not
+  // identifiable (Lafortune's axis, only determined up to scale: LafortuneAxisIsDeterminedOnlyUpToScale).
   int offset = 0;
   for (const ParameterEstimate& p : fit.parameters) {
-    const bool determined = !(m->name() == "lafortune" && (p.name == "cxy" || p.name == "cz"));
+    const bool determined = !is_not_identifiable(*m, p.name);
     EXPECT_EQ(p.identifiable, determined) << p.name;
     if (!determined) {
       for (double s : p.stddev) EXPECT_TRUE(std::isnan(s)) << p.name;
@@ -155,35 +135,22 @@ INSTANTIATE_TEST_SUITE_P(EveryModel, FitRecovery, ::testing::ValuesIn(identifiab
 namespace brdffit {
 namespace {
 
-// Models whose values a table does not determine one by one, so that recovery means the same
-// reflectance: on fresh noise-free directions the fit predicts the truth's values, and it flags
-// the values that trade off as not identifiable.
-// - gltf-specular: KHR_materials_ior and specularColor both scale the dielectric F0, exactly;
-//   baseColor and metallic then move by 3-6% along a direction of almost equal cost.
-// - openpbr, principled: specular_ior against specular_weight/specular_color (Disney: specular
-//   against specularTint and metallic) shape F0 and its tint together; fits on these samples end
-//   within 0.1% of the truth's error with ior or colours 2-10% away, in another basin of almost
-//   equal cost, where the local stddevs do not see the other basin; on fresh directions (which
-//   reach grazing angles the 6000 samples cover thinly) they differ from the truth by 0.9% and
-//   2.3% (principled). Locally, principled's metallic and specular are flagged (Schlick F0 =
-//   mix(0.08·specular·tint, baseColor, metallic)); mitsuba-principled's exact Fresnel of the
-//   eta that specular gives separates them, so its trade-offs are only the other basins.
-// - sgd: Bagher's K and specular only act as their product; α, p and the shadowing's c, k, θ0
-//   nearly trade off (c, k and θ0 are flagged). Known gap: the fitter stops at 3.5x the truth's own error on these
-//   samples (the truth's is the 1% noise), about 2% off the truth's values.
-struct TradeOffCase {
-  const char* model;
-  std::vector<std::string> not_identifiable;
-  double max_relative_error;    // on fresh noise-free directions
-  double max_error_over_truth;  // the fit's error over the truth's, on the fitted samples
-  friend void PrintTo(const TradeOffCase& test, std::ostream* out) { *out << test.model; }
-};
+// Models whose values a table does not determine one by one (RecoveryFacts::trade_off, with the
+// reasons beside it in each model's header), so that recovery means the same reflectance: on
+// fresh noise-free directions the fit predicts the truth's values, and it flags the values that
+// trade off (RecoveryFacts::not_identifiable) as not identifiable.
+std::vector<std::string> trade_off_models() {
+  std::vector<std::string> names;
+  for (const auto& m : all_models())
+    if (m->recovery_facts().trade_off) names.push_back(m->name());
+  return names;
+}
 
-class FitTradeOff : public ::testing::TestWithParam<TradeOffCase> {};
+class FitTradeOff : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(FitTradeOff, ReproducesTheTruthsReflectanceAndFlagsWhatTradesOff) {
-  const TradeOffCase& test = GetParam();
-  const Model& model = *find_model(test.model);
+  const Model& model = *find_model(GetParam());
+  const RecoveryFacts::TradeOff& bounds = *model.recovery_facts().trade_off;
   const std::vector<double> truth = recovery_truth(model);
   const SampleSet data = synthetic(model, truth, 6000, 0.01, 3);
   // The grids and searches on a subsample of a third, as on a large table (a third of sgd's
@@ -192,23 +159,28 @@ TEST_P(FitTradeOff, ReproducesTheTruthsReflectanceAndFlagsWhatTradesOff) {
   options.subsample = 2000;
   const FitResult fit = fit_model(model, data, options);
   ASSERT_TRUE(fit.ok) << fit.error;
-  EXPECT_LE(fit.metrics.cosine, test.max_error_over_truth * evaluate_metrics(model, truth, data).cosine);
+  EXPECT_LE(fit.metrics.cosine, bounds.max_error_over_truth * evaluate_metrics(model, truth, data).cosine);
   std::vector<double> fitted;
   for (const ParameterEstimate& p : fit.parameters) fitted.insert(fitted.end(), p.value.begin(), p.value.end());
-  EXPECT_LT(evaluate_metrics(model, fitted, synthetic(model, truth, 4000, 0.0, 11)).relative, test.max_relative_error);
-  for (const ParameterEstimate& p : fit.parameters) {
-    const bool trades_off = std::count(test.not_identifiable.begin(), test.not_identifiable.end(), p.name) > 0;
-    EXPECT_EQ(p.identifiable, !trades_off) << p.name;  // flagged exactly where the list says
-  }
+  EXPECT_LT(evaluate_metrics(model, fitted, synthetic(model, truth, 4000, 0.0, 11)).relative,
+            bounds.max_relative_error);
+  for (const ParameterEstimate& p : fit.parameters)
+    EXPECT_EQ(p.identifiable, !is_not_identifiable(model, p.name)) << p.name;  // flagged exactly where declared
 }
 
-INSTANTIATE_TEST_SUITE_P(Fit, FitTradeOff,
-                         ::testing::Values(TradeOffCase{"gltf-specular", {"ior", "specularColor"}, 0.005, 1.001},
-                                           TradeOffCase{"openpbr", {}, 0.02, 1.001},
-                                           TradeOffCase{"principled", {"metallic", "specular"}, 0.035, 1.001},
-                                           TradeOffCase{"mitsuba-principled", {}, 0.035, 1.001},
-                                           TradeOffCase{"sgd", {"specular", "K", "c", "k", "theta0"}, 0.03, 5.0}),
-                         [](const auto& info) { return test::gtest_name(info.param.model); });
+INSTANTIATE_TEST_SUITE_P(Fit, FitTradeOff, ::testing::ValuesIn(trade_off_models()),
+                         [](const auto& info) { return test::gtest_name(info.param); });
+
+// The models' declared facts name their own parameters (a misspelt name fails here, not as a
+// recovery that looks wrong).
+TEST(RecoveryFacts, NameTheModelsOwnParameters) {
+  for (const auto& m : all_models()) {
+    SCOPED_TRACE(m->name());
+    const RecoveryFacts& facts = m->recovery_facts();
+    EXPECT_NO_THROW(parameter_values(*m, facts.material));
+    for (const std::string& name : facts.not_identifiable) EXPECT_NE(m->find_parameter(name), nullptr) << name;
+  }
+}
 
 TEST(Fit, MultiStartFindsTheGlobalMinimumWhereASingleStartDoesNot) {
   // Two GGX lobes, one sharp (roughness 0.05) and one broad (0.7), fitted by one lobe: the

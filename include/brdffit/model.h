@@ -40,6 +40,26 @@ struct Nesting {
   std::string why;  // one line for users: what is switched off or mapped
 };
 
+// What a fit recovers from a table of the model's own values: facts declared with the model (its
+// struct's optional recovery_facts()) and checked by the tests of parameter recovery
+// (tests/test_fit.cc), so that a new model brings its own. Empty: every value is recovered from
+// a material in the middle of every range.
+struct RecoveryFacts {
+  // "NAME=VALUE" assignments (parameter_values) for that material where the middle of a range
+  // is none a fit could recover (a near-mirror that random directions rarely see).
+  std::vector<std::string> material = {};
+  // Parameters a table does not determine one by one: a fit flags them not identifiable.
+  std::vector<std::string> not_identifiable = {};
+  // Values that trade off (another basin of almost equal cost): a fit reproduces the material's
+  // reflectance rather than its values. Bounds of the fit's relative error on fresh noise-free
+  // directions, and of its error over the material's own on the fitted samples.
+  struct TradeOff {
+    double max_relative_error;
+    double max_error_over_truth;
+  };
+  std::optional<TradeOff> trade_off = {};
+};
+
 class Model {
  public:
   virtual ~Model() = default;
@@ -69,6 +89,7 @@ class Model {
   // the models written as models::OverLambert (models/over_lambert.h), which two-lobe composites
   // (two_lobes.h) combine.
   virtual bool is_lobe_over_lambert() const { return false; }
+  virtual const RecoveryFacts& recovery_facts() const;
 
   int num_values() const { return flattened_size(parameters()); }
   std::vector<double> default_values() const;

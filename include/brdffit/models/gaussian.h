@@ -32,6 +32,10 @@ struct GaussianLobe : Lobe {
 
   static std::vector<Nesting> nestings() { return {lambert_under_lobe()}; }
 
+  // The recovery tests' material (model.h): a glossy lobe with a peak a few times the albedo.
+  // Under the middle of the ranges' (a peak 1.2·specular of 400-800) the albedo scattered by 1-2 %.
+  static RecoveryFacts recovery_facts() { return {/*material=*/{"specular=3,4,5", "m=0.2"}}; }
+
   // The seed's lobe is a function of h alone, evaluated for any directions.
   static bool lobe_vanishes(const Vec3& /*l*/, const Vec3& /*v*/) { return false; }
 

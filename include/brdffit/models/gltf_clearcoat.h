@@ -77,6 +77,10 @@ struct GltfClearcoat {
     return gltf_clearcoat_mix(Gltf::brdf(p, l, v), p[kClearcoat], p[kClearcoatRoughness], l, v);
   }
 
+  // The recovery tests' material (model.h): glossy as in fits of MERL, the coat (α = 0.04) over
+  // the base's 0.16.
+  static RecoveryFacts recovery_facts() { return {/*material=*/{"roughness=0.4", "clearcoatRoughnessFactor=0.2"}}; }
+
   static std::vector<Nesting> nestings() {
     return {{"gltf",
              {{"baseColor", "baseColor"}, {"metallic", "metallic"}, {"roughness", "roughness"}},

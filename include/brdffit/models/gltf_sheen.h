@@ -241,6 +241,8 @@ struct GltfSheen {
     return gltf_sheen_layer(Gltf::brdf(p, l, v), p + kSheenColor, p[kSheenRoughness], l, v);
   }
 
+  static RecoveryFacts recovery_facts() { return Gltf::recovery_facts(); }
+
   static std::vector<Nesting> nestings() {
     return {{"gltf",
              {{"baseColor", "baseColor"}, {"metallic", "metallic"}, {"roughness", "roughness"}},
@@ -283,6 +285,8 @@ struct GltfClearcoatSheen {
     const Rgb<T> sheened = gltf_sheen_layer(Gltf::brdf(p, l, v), p + kSheenColor, p[kSheenRoughness], l, v);
     return gltf_clearcoat_mix(sheened, p[kClearcoat], p[kClearcoatRoughness], l, v);
   }
+
+  static RecoveryFacts recovery_facts() { return GltfClearcoat::recovery_facts(); }
 
   static std::vector<Nesting> nestings() {
     const std::vector<Nesting::Copy> base = {

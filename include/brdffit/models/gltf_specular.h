@@ -61,6 +61,14 @@ struct GltfSpecular {
     return gltf_metallic_roughness(p + kBaseColor, p[kMetallic], p[kRoughness], f0, p[kSpecular], l, v);
   }
 
+  // Fits of its own values (model.h): KHR_materials_ior and specularColor both scale the
+  // dielectric F0, exactly; baseColor and metallic then move by 3-6 % along a direction of almost
+  // equal cost, so a fit reproduces the material's reflectance rather than its values.
+  static RecoveryFacts recovery_facts() {
+    return {/*material=*/{}, /*not_identifiable=*/{"ior", "specularColor"},
+            RecoveryFacts::TradeOff{/*max_relative_error=*/0.005, /*max_error_over_truth=*/1.001}};
+  }
+
   static std::vector<Nesting> nestings() {
     return {{"gltf",
              {{"baseColor", "baseColor"}, {"metallic", "metallic"}, {"roughness", "roughness"}},

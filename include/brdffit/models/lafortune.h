@@ -63,6 +63,9 @@ struct LafortuneLobe : Lobe {
 
   static std::vector<Nesting> nestings() { return {lambert_under_lobe()}; }
 
+  // Only the direction of (cxy, cz) enters the lobe: fits determine their ratio, not each.
+  static RecoveryFacts recovery_facts() { return {/*material=*/{}, /*not_identifiable=*/{"cxy", "cz"}}; }
+
   template <class T>
   static Rgb<T> lobe(const T* p, const Vec3& l, const Vec3& v) {
     const T c = abs_value(p[kCxy]) > abs_value(p[kCz]) ? abs_value(p[kCxy]) : abs_value(p[kCz]);

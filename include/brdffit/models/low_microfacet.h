@@ -43,6 +43,10 @@ struct LowMicrofacetLobe : Lobe {
 
   static std::vector<Nesting> nestings() { return {lambert_under_lobe("A")}; }
 
+  // The recovery tests' material (model.h): as in Löw's fits. The middle of A's range (0 to 10⁴)
+  // is a lobe a thousand times the albedo, under which the samples do not determine the albedo.
+  static RecoveryFacts recovery_facts() { return {/*material=*/{"A=3,4,5", "B=50"}}; }
+
   template <class T>
   static Rgb<T> lobe(const T* p, const Vec3& l, const Vec3& v) {
     using std::pow;

@@ -38,6 +38,10 @@ struct LowSmoothLobe : Lobe {
 
   static std::vector<Nesting> nestings() { return {lambert_under_lobe("A")}; }
 
+  // The recovery tests' material (model.h): as in Löw's fits. The middle of A's range (0 to 10⁴)
+  // is a lobe a thousand times the albedo, under which the samples do not determine the albedo.
+  static RecoveryFacts recovery_facts() { return {/*material=*/{"A=3,4,5", "B=50"}}; }
+
   // Evaluated at the horizon too, as BBM's lowsmooth (its formula is finite there).
   static bool lobe_vanishes(const Vec3& l, const Vec3& v) { return l.z() < 0.0 || v.z() < 0.0; }
 

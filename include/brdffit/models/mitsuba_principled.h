@@ -155,6 +155,14 @@ struct MitsubaPrincipled {
     return f;
   }
 
+  // Fits of its own values (model.h): as principled's, except that the exact Fresnel of the eta
+  // that specular gives separates metallic from specular: its trade-offs are only other basins of
+  // almost equal cost.
+  static RecoveryFacts recovery_facts() {
+    return {/*material=*/{}, /*not_identifiable=*/{},
+            RecoveryFacts::TradeOff{/*max_relative_error=*/0.035, /*max_error_over_truth=*/1.001}};
+  }
+
   static std::vector<Nesting> nestings() {
     return {
         {"lambert",

@@ -243,6 +243,16 @@ struct OpenPbr {
     return f;
   }
 
+  // Fits of its own values (model.h): specular_ior against specular_weight and specular_color
+  // shape F0 and its tint together. Fits end within 0.1 % of the material's error with ior or
+  // colours 2-10 % away, in another basin of almost equal cost that the local stddevs do not see;
+  // on fresh directions (grazing ones, which the fitted samples cover thinly) they differ from
+  // the material by 0.9 %.
+  static RecoveryFacts recovery_facts() {
+    return {/*material=*/{}, /*not_identifiable=*/{},
+            RecoveryFacts::TradeOff{/*max_relative_error=*/0.02, /*max_error_over_truth=*/1.001}};
+  }
+
   static std::vector<Nesting> nestings() {
     return {{"lambert",
              {{"base_color", "albedo"}},

@@ -10,7 +10,7 @@
 //     enum { kRoughness = 0, ..., kNumValues }  offsets of the lobe's own values, from 0
 //     parameters()                              the lobe's own, in the model's order after albedo
 //     lobe<T>(p, l, v)                          the lobe's f (1/sr) at its own values p, T double or ceres::Jet
-//     nestings(), lobe_vanishes(l, v): optional, Lobe's below otherwise
+//     nestings(), recovery_facts(), lobe_vanishes(l, v): optional, Lobe's below otherwise
 //   };
 //   using Ggx = OverLambert<GgxLobe>;          the model, one line in the registry
 //
@@ -34,6 +34,7 @@ struct Lobe {
   // source evaluates there too declares its own (beckmann, gaussian, low-smooth).
   static bool lobe_vanishes(const Vec3& l, const Vec3& v) { return l.z() <= 0.0 || v.z() <= 0.0; }
   static std::vector<Nesting> nestings() { return {}; }
+  static RecoveryFacts recovery_facts() { return {}; }
 };
 
 template <class L>
@@ -53,6 +54,7 @@ struct OverLambert {
     return params;
   }
   static std::vector<Nesting> nestings() { return L::nestings(); }
+  static RecoveryFacts recovery_facts() { return L::recovery_facts(); }
 
   template <class T>
   static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {

@@ -95,6 +95,19 @@ struct SgdLobe : Lobe {
          "Cook-Torrance's Beckmann D and Schlick F, without its V-groove shadowing"}};
   }
 
+  // Fits of its own values (model.h): K and specular act only as their product; α, p and the
+  // shadowing's c, k, θ0 nearly trade off (c, k and θ0 are flagged). The middle of the ranges is
+  // a near-mirror (α = 6e-4) whose shadowing never acts (c·(θ−θ0)^k ≈ 0), so the recovery tests
+  // take a material among the published fits. Known gap: the fitter stops at 3.5x that material's
+  // own error on its samples (the 1 % noise), about 2 % off its values.
+  static RecoveryFacts recovery_facts() {
+    return {/*material=*/{"specular=0.3,0.4,0.5", "alpha=0.04,0.05,0.06", "p=0.6,0.7,0.8", "f0=0.2,0.25,0.3",
+                          "f1=0.1,0.1,0.1", "K=10,10,10", "lambda=1.5,1.5,1.5", "c=0.3,0.3,0.3", "k=3,3,3",
+                          "theta0=0.4,0.4,0.4"},
+            /*not_identifiable=*/{"specular", "K", "c", "k", "theta0"},
+            RecoveryFacts::TradeOff{/*max_relative_error=*/0.03, /*max_error_over_truth=*/5.0}};
+  }
+
   // G1 of one channel for a direction at polar angle theta (clamped and capped: see above).
   template <class T>
   static T shadowing(const T* p, int c, double theta) {

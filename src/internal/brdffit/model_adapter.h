@@ -5,10 +5,11 @@
 // A model struct provides kName, kSummary, kEnergyConserving, kNumValues, parameters(), and
 // either brdf<T>(p, l, v) (physically based: shade = f·max(n·l,0) is derived here) or
 // shade<T>(p, l, v) (stylised: the seed's shader expression without the light colour);
-// optionally nestings() (model.h: the simpler models it contains) and kSeparateChannels with
-// kNumParameters (separate_channels.h: one derivative per parameter). A lobe over the Lambert
-// base is a models::OverLambert (models/over_lambert.h). The adapter is also the model's
-// BatchCostSource: the fitter's cost is a BatchCost<M> (fit_residual.h).
+// optionally nestings() (model.h: the simpler models it contains), recovery_facts() (model.h:
+// what fits recover from its values) and kSeparateChannels with kNumParameters
+// (separate_channels.h: one derivative per parameter). A lobe over the Lambert base is a
+// models::OverLambert (models/over_lambert.h). The adapter is also the model's BatchCostSource:
+// the fitter's cost is a BatchCost<M> (fit_residual.h).
 #pragma once
 
 #include <ceres/jet.h>
@@ -26,8 +27,10 @@ namespace brdffit {
 template <class M>
 class ModelAdapter final : public Model, public BatchCostSource {
  public:
-  ModelAdapter() : name_(M::kName), summary_(M::kSummary), params_(M::parameters()), nestings_(nestings_of<M>()) {
+  ModelAdapter() : name_(M::kName), summary_(M::kSummary), params_(M::parameters()) {
     static_assert(M::kNumValues > 0, "a model needs parameters");
+    if constexpr (Declares<NestingsOf, M>::value) nestings_ = M::nestings();
+    if constexpr (Declares<RecoveryFactsOf, M>::value) recovery_facts_ = M::recovery_facts();
     if constexpr (SeparateChannels<M>::value)
       if (parameter_slots<M>().slots() != M::kNumParameters || flattened_size(params_) != M::kNumValues)
         throw std::logic_error(name_ + ": kNumParameters or kNumValues does not match parameters()");
@@ -74,25 +77,25 @@ class ModelAdapter final : public Model, public BatchCostSource {
 
   const std::vector<Nesting>& nestings() const override { return nestings_; }
   bool is_lobe_over_lambert() const override { return models::IsOverLambert<M>::value; }
+  const RecoveryFacts& recovery_facts() const override { return recovery_facts_; }
 
   ceres::CostFunction* new_batch_cost(const ResidualBatch& batch) const override { return new BatchCost<M>(batch); }
 
  private:
-  template <class N, class = void>
-  struct HasNestings : std::false_type {};
+  // The struct's optional members: Declares<NestingsOf, M> where M has nestings().
   template <class N>
-  struct HasNestings<N, std::void_t<decltype(N::nestings())>> : std::true_type {};
+  using NestingsOf = decltype(N::nestings());
   template <class N>
-  static std::vector<Nesting> nestings_of() {
-    if constexpr (HasNestings<N>::value)
-      return N::nestings();
-    else
-      return {};
-  }
+  using RecoveryFactsOf = decltype(N::recovery_facts());
+  template <template <class> class Member, class N, class = void>
+  struct Declares : std::false_type {};
+  template <template <class> class Member, class N>
+  struct Declares<Member, N, std::void_t<Member<N>>> : std::true_type {};
 
   std::string name_, summary_;
   std::vector<ParamSpec> params_;
   std::vector<Nesting> nestings_;
+  RecoveryFacts recovery_facts_;
 };
 
 }  // namespace brdffit
