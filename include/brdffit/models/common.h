@@ -51,11 +51,6 @@ T beckmann_ndf(double cos_theta_h, const T& m) {
   return exp(-tan2 / m2) / (kPi * m2 * cos2 * cos2);
 }
 
-// The rotation φ₀ of an anisotropic lobe's tangent frame about the normal, in degrees: the
-// angle from the table's x axis to the lobe's x axis, counter-clockwise seen from above. A lobe
-// is unchanged by φ₀ + 180°, and by φ₀ + 90° with its x and y widths exchanged, so [0°, 90°]
-// holds every lobe once (a lobe turned by 120° is found at 30° with its widths exchanged) and
-// fits of the same data agree.
 // Schlick's weight (1 - u)⁵ with u clamped to [0, 1] (u = a cosine), as Burley's and Mitsuba's
 // principled materials write their Fresnel and retro-reflection terms.
 template <class T>
@@ -65,6 +60,11 @@ T schlick_weight(const T& u) {
   return m2 * m2 * m;
 }
 
+// The rotation φ₀ of an anisotropic lobe's tangent frame about the normal, in degrees: the
+// angle from the table's x axis to the lobe's x axis, counter-clockwise seen from above. A lobe
+// is unchanged by φ₀ + 180°, and by φ₀ + 90° with its x and y widths exchanged, so [0°, 90°]
+// holds every lobe once (a lobe turned by 120° is found at 30° with its widths exchanged) and
+// fits of the same data agree.
 inline ParamSpec tangent_rotation_param() {
   return {"phi0",
           1,
