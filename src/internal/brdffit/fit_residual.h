@@ -137,30 +137,45 @@ class BatchCost final : public ceres::CostFunction {
     for (int i = 0; i < K; ++i) p[i] = Jet(full[i]);
     for (int k = 0; k < num_free_; ++k) p[free[k]].v[k] = 1.0;
 
-    Eigen::Matrix<double, K, K> jtj = Eigen::Matrix<double, K, K>::Zero();
-    Eigen::Matrix<double, K, 1> jtr = Eigen::Matrix<double, K, 1>::Zero();
-    double rr = 0.0;
-    for (size_t i = 0; i < batch_.count; ++i) {
-      const Sample& s = batch_.samples[i];
-      const Rgb<Jet> shade = shade_of<M>(p.data(), s.l, s.v);
-      const double sqrt_w = std::sqrt(metric_weight(batch_.metric, s.weight));
-      for (int c = 0; c < 3; ++c) {
-        if (!batch_.channels[c]) continue;
-        const Jet r = metric_residual(batch_.metric, shade[c], s.value[c]) * sqrt_w;
-        double value, scale;
-        detail::robustify(batch_.loss, r.a, value, scale);
-        const Eigen::Matrix<double, K, 1> grad = r.v * scale;
-        rr += value * value;
-        jtr += value * grad;
-        jtj.template selfadjointView<Eigen::Upper>().rankUpdate(grad);
-      }
-    }
+    std::array<Eigen::Matrix<double, K, K>, 3> jtj;
+    std::array<Eigen::Matrix<double, K, 1>, 3> jtr;
+    const double rr = accumulate(p.data(), jtj, jtr);
     if (!std::isfinite(rr)) return false;
-    compress(jtj.template selfadjointView<Eigen::Upper>(), jtr, rr, residuals, jacobians[0]);
+    const Eigen::Matrix<double, K, K> upper = jtj[0] + jtj[1] + jtj[2];
+    compress(upper.template selfadjointView<Eigen::Upper>(), jtr[0] + jtr[1] + jtr[2], rr, residuals, jacobians[0]);
     return true;
   }
 
  private:
+  // Shades the batch's samples with the Jets p and sums, per fitted channel, the upper triangle of
+  // JᵀJ and Jᵀr over the Jets' derivative slots; returns Σ r² (robustified).
+  template <int N>
+  double accumulate(const ceres::Jet<double, N>* p, std::array<Eigen::Matrix<double, N, N>, 3>& jtj,
+                    std::array<Eigen::Matrix<double, N, 1>, 3>& jtr) const {
+    using NJet = ceres::Jet<double, N>;
+    for (int c = 0; c < 3; ++c) {
+      jtj[c].setZero();
+      jtr[c].setZero();
+    }
+    double rr = 0.0;
+    for (size_t i = 0; i < batch_.count; ++i) {
+      const Sample& s = batch_.samples[i];
+      const Rgb<NJet> shade = shade_of<M>(p, s.l, s.v);
+      const double sqrt_w = std::sqrt(metric_weight(batch_.metric, s.weight));
+      for (int c = 0; c < 3; ++c) {
+        if (!batch_.channels[c]) continue;
+        const NJet r = metric_residual(batch_.metric, shade[c], s.value[c]) * sqrt_w;
+        double value, scale;
+        detail::robustify(batch_.loss, r.a, value, scale);
+        const Eigen::Matrix<double, N, 1> grad = r.v * scale;
+        rr += value * value;
+        jtr[c] += value * grad;
+        jtj[c].template selfadjointView<Eigen::Upper>().rankUpdate(grad);
+      }
+    }
+    return rr;
+  }
+
   // Evaluate's derivatives for separate channels (separate_channels.h): one Jet slot per
   // parameter, JᵀJ and Jᵀr per channel in slot space, then each channel's slots scattered to the
   // free values they stand for in that channel. A fixed value gets no derivative.
@@ -179,26 +194,7 @@ class BatchCost final : public ceres::CostFunction {
 
     std::array<Eigen::Matrix<double, W, W>, 3> jtj;
     std::array<Eigen::Matrix<double, W, 1>, 3> jtr;
-    for (int c = 0; c < 3; ++c) {
-      jtj[c].setZero();
-      jtr[c].setZero();
-    }
-    double rr = 0.0;
-    for (size_t i = 0; i < batch_.count; ++i) {
-      const Sample& s = batch_.samples[i];
-      const Rgb<Jet> shade = shade_of<M>(p.data(), s.l, s.v);
-      const double sqrt_w = std::sqrt(metric_weight(batch_.metric, s.weight));
-      for (int c = 0; c < 3; ++c) {
-        if (!batch_.channels[c]) continue;
-        const Jet r = metric_residual(batch_.metric, shade[c], s.value[c]) * sqrt_w;
-        double value, scale;
-        detail::robustify(batch_.loss, r.a, value, scale);
-        const Eigen::Matrix<double, W, 1> grad = r.v * scale;
-        rr += value * value;
-        jtr[c] += value * grad;
-        jtj[c].template selfadjointView<Eigen::Upper>().rankUpdate(grad);
-      }
-    }
+    const double rr = accumulate(p.data(), jtj, jtr);
     if (!std::isfinite(rr)) return false;
 
     Eigen::MatrixXd free_jtj = Eigen::MatrixXd::Zero(num_free_, num_free_);
