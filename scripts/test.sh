@@ -23,11 +23,17 @@ print_phases() {
 }
 trap print_phases EXIT
 
+# Both builds are unity builds (CMake joins the sources of a target, 8 at a time, into one file):
+# every file parses the same heavy headers (Ceres, Eigen, fmt, nlohmann::json, CLI11, gtest) and
+# instantiates the same templates, and compiling them together halved the CPU time of the builds
+# (722 → ~360 CPU s in Release). A developer's `cmake -S . -B build` compiles file by file, which
+# rebuilds less after an edit; these runs keep the sources safe to join (no two files may define
+# the same name in an anonymous namespace: shared test helpers live in tests/*_util.h).
 configure_and_build() {  # build-dir, extra cmake args...
   local dir=$1
   shift
   mkdir -p "$dir"
-  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Release "$@" > "$dir.configure.log" 2>&1 || { cat "$dir.configure.log"; exit 1; }
+  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Release -DCMAKE_UNITY_BUILD=ON "$@" > "$dir.configure.log" 2>&1 || { cat "$dir.configure.log"; exit 1; }
   cmake --build "$dir" -j "$jobs"
 }
 run_ctest() {  # build-dir: every test it lists, with a JUnit report for the summary

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "brdffit/batch.h"
 #include "brdffit/csv_samples.h"
 #include "brdffit/fit.h"
 #include "brdffit/io.h"
@@ -104,6 +105,13 @@ inline void expect_same_batch(const std::string& out, const std::string& single)
     for (const char* key : {"material", "input", "status", "best_model", "errors"})
       EXPECT_EQ(all["materials"][i][key], one["materials"][i][key]) << key;
   EXPECT_EQ(all["counts"]["ok"], 4);
+}
+
+// The materials' names, in order.
+inline std::vector<std::string> names(const std::vector<BatchMaterial>& materials) {
+  std::vector<std::string> out;
+  for (const BatchMaterial& m : materials) out.push_back(m.name);
+  return out;
 }
 
 }  // namespace brdffit::test

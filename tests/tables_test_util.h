@@ -96,22 +96,6 @@ inline std::pair<Vec3, Vec3> pair_from_angles(double theta_h, double theta_d, do
   return {l, 2 * l.dot(h) * h - l};
 }
 
-// Expects `action` to throw brdffit::Error (nothing else) whose message contains every
-// fragment; returns the message.
-template <class Action>
-std::string expect_error(Action&& action, const std::vector<std::string>& fragments) {
-  try {
-    action();
-  } catch (const Error& e) {
-    const std::string message = e.what();
-    for (const std::string& f : fragments)
-      EXPECT_NE(message.find(f), std::string::npos) << "'" << f << "' not in: " << message;
-    return message;
-  }
-  ADD_FAILURE() << "expected an error mentioning '" << fragments.front() << "'";
-  return "";
-}
-
 inline void write_bytes(const std::string& path, const std::string& bytes) {
   FILE* f = std::fopen(path.c_str(), "wb");
   ASSERT_NE(f, nullptr) << path;

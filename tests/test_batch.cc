@@ -12,11 +12,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::vector<std::string> names(const std::vector<BatchMaterial>& materials) {
-  std::vector<std::string> out;
-  for (const BatchMaterial& m : materials) out.push_back(m.name);
-  return out;
-}
+using test::names;
 
 TEST(BatchMaterials, FoldersManifestsAndFiles) {
   const std::string dir = test::fresh_dir("batch-inputs");

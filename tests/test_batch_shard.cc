@@ -75,11 +75,7 @@ std::vector<BatchMaterial> materials_of_sizes(const std::string& dir, const std:
   return materials;
 }
 
-std::vector<std::string> names(const std::vector<BatchMaterial>& materials) {
-  std::vector<std::string> out;
-  for (const BatchMaterial& m : materials) out.push_back(m.name);
-  return out;
-}
+using test::names;
 
 TEST(BatchShard, SharesAreBalancedBySizeLargestFirst) {
   // By hand: largest first to the lighter shard (sizes + 1): m0 (100) -> 0; m2 (50) -> 1;

@@ -220,7 +220,7 @@ bool normal_at(int x, int y, Vec3& n) {
   return true;
 }
 
-struct Comparison {
+struct RenderComparison {
   size_t pixels = 0;
   double three_vs_spec = 0.0, three_vs_model = 0.0, model_vs_spec = 0.0, spec_vs_brdffit = 0.0;
 };
@@ -228,11 +228,11 @@ struct Comparison {
 // Mean relative differences per channel over the lit pixels well inside the outline (three.js's
 // polygonal silhouette differs from the circle by a fraction of a pixel) whose 2x2 quad lies on
 // the sphere (g is the quad's normal difference there).
-Comparison compare(const GltfMaterial& m, const cv::Mat& three_js, const cv::Mat& brdffit_render) {
+RenderComparison compare(const GltfMaterial& m, const cv::Mat& three_js, const cv::Mat& brdffit_render) {
   static const LobeAlbedoTable albedo;
   const Vec3 l = kLight.normalized();
   const double inner = 1.0 - 3.0 / (kSize / 2.0 - 1.0);
-  Comparison c;
+  RenderComparison c;
   const auto relative = [](const Rgb<double>& a, const Rgb<double>& b) {
     return ((a - b).array().abs() / b.array()).mean();
   };
@@ -298,8 +298,8 @@ TEST_P(ThreeJs, DrawsTheExportedMaterialAsFittedWithinItsDocumentedDepartures) {
   ASSERT_EQ(drawn.exit_code, 0) << drawn.output;
   EXPECT_NE(read_file(dir + "/three.json").find("\"material\":\"" + c.three_js_material + "\""), std::string::npos);
 
-  const Comparison r = compare(c.material, read_three_js_pixels(dir + "/three.json"),
-                               read_image(dir + "/brdffit.exr", Decoding{Transfer::Linear}));
+  const RenderComparison r = compare(c.material, read_three_js_pixels(dir + "/three.json"),
+                                     read_image(dir + "/brdffit.exr", Decoding{Transfer::Linear}));
   std::printf(
       "%s: three.js vs brdffit render %.4f, three.js vs its departures %.4f, departures alone %.4f (%zu lit pixels)\n",
       c.model.c_str(), r.three_vs_spec, r.three_vs_model, r.model_vs_spec, r.pixels);

@@ -41,10 +41,7 @@ using test::pair_from_angles;
 using test::raw_bin;
 using test::raw_f;
 
-void expect_rgb_near(const Rgb<double>& actual, const Rgb<double>& expected, double relative) {
-  for (int c = 0; c < 3; ++c)
-    EXPECT_NEAR(actual[c], expected[c], relative * std::abs(expected[c]) + 1e-300) << "channel " << c;
-}
+using test::expect_rgb_near;
 
 // --- reading and lookups on the shared proxies ---------------------------------------------------
 

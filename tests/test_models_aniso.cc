@@ -18,20 +18,15 @@ using test::dir;
 
 const std::vector<std::string> kAnisotropic = {"ggx-aniso", "ward-aniso", "ashikhmin-shirley-aniso"};
 
-double shade1(const std::string& name, const std::vector<std::string>& params, const Vec3& l, const Vec3& v) {
-  const Model* model = find_model(name);
-  EXPECT_NE(model, nullptr) << name;
-  const std::vector<double> values = parameter_values(*model, params);
-  return model->shade(values.data(), l, v)[0];
-}
+using test::kCos30;
+using test::kNormal;
+using test::shade1;
 
-const Vec3 kNormal(0, 0, 1);
 // v 60° from the normal at azimuth φ; with l = n the half vector is 30° from the normal at φ.
 Vec3 at_60(double phi_deg) {
   const double phi = phi_deg * kPi / 180;
   return Vec3(std::sin(kPi / 3) * std::cos(phi), std::sin(kPi / 3) * std::sin(phi), 0.5);
 }
-const double kCos30 = std::sqrt(3.0) / 2;
 
 TEST(GgxAniso, HandValues) {
   // l = v = n: h = n, D = 1/(π α_x α_y), G = 1, F = f0: f = albedo/π + f0/(4π α_x α_y).

@@ -18,19 +18,10 @@ namespace {
 
 using test::dir;
 
-// The model's shaded value for one channel when all colour channels are equal.
-double shade1(const std::string& name, const std::vector<std::string>& params, const Vec3& l, const Vec3& v) {
-  const Model* model = find_model(name);
-  EXPECT_NE(model, nullptr) << name;
-  const std::vector<double> values = parameter_values(*model, params);
-  const Rgb<double> s = model->shade(values.data(), l, v);
-  EXPECT_NEAR(s[0], s[1], 1e-15);
-  EXPECT_NEAR(s[1], s[2], 1e-15);
-  return s[0];
-}
+using test::kNormal;
+using test::shade1;
 
 const double kSqrtHalf = std::sqrt(0.5);
-const Vec3 kNormal(0, 0, 1);
 const Vec3 k45X = dir(1, 0, 1);    // 45° towards +x
 const Vec3 k45mX = dir(-1, 0, 1);  // 45° towards -x: the mirror of k45X
 

@@ -43,15 +43,13 @@ Rgb<double> brdf(const std::string& model, const std::vector<double>& values, co
   return *find_model(model)->brdf(values.data(), l, v);
 }
 
-void expect_rgb_near(const Rgb<double>& actual, const Rgb<double>& expected, double relative = 1e-12) {
-  for (int c = 0; c < 3; ++c)
-    EXPECT_NEAR(actual[c], expected[c], relative * std::max(1e-300, std::abs(expected[c]))) << "channel " << c;
-}
+using test::expect_rgb_near;
 
 const char* const kModels[] = {"low-smooth", "low-microfacet", "low-cook-torrance", "low-ashikhmin-shirley", "sgd"};
 
 // Mirror pair 36.87° from the normal (3-4-5: cosines exact) and an off-specular pair.
-const Vec3 kN(0, 0, 1), kL(0.6, 0, 0.8), kMirrorV(-0.6, 0, 0.8);
+using test::kNormal;
+const Vec3 kL(0.6, 0, 0.8), kMirrorV(-0.6, 0, 0.8);
 
 TEST(LowModels, FresnelReferenceIsRight) {
   // Normal incidence: ((η−1)/(η+1))²; glass at 45°: 0.0500 (textbook value ≈ 5 %).
@@ -63,7 +61,7 @@ TEST(LowSmooth, HandValues) {
   const std::vector<double> p =
       values_of("low-smooth", {"albedo=0.1,0.2,0.3", "A=2,1,0.5", "B=50", "C=1.5", "eta=1.5"});
   // l = v = n: l_xy + v_xy = 0 (S = 1), cosθd = 1, F = 0.04.
-  expect_rgb_near(brdf("low-smooth", p, kN, kN),
+  expect_rgb_near(brdf("low-smooth", p, kNormal, kNormal),
                   Rgb<double>(0.1 / kPi + 2 * 0.04, 0.2 / kPi + 1 * 0.04, 0.3 / kPi + 0.5 * 0.04));
   // Mirror pair: S = 1, |l_xy − v_xy|² = 1.44, cosθd = √(1 − 0.36) = 0.8.
   const double f_mirror = snell_fresnel(1.5, 0.8);
@@ -71,31 +69,32 @@ TEST(LowSmooth, HandValues) {
                   Rgb<double>(0.1 / kPi + 2 * f_mirror, 0.2 / kPi + f_mirror, 0.3 / kPi + 0.5 * f_mirror));
   // l = (0.6,0,0.8), v = n: |l_xy + v_xy|² = 0.36, S = (1 + 18)^−1.5, cosθd = √(1 − 0.09).
   const double lobe = std::pow(19.0, -1.5) * snell_fresnel(1.5, std::sqrt(0.91));
-  const Rgb<double> shaded = find_model("low-smooth")->shade(p.data(), kL, kN);
+  const Rgb<double> shaded = find_model("low-smooth")->shade(p.data(), kL, kNormal);
   expect_rgb_near(shaded, 0.8 * Rgb<double>(0.1 / kPi + 2 * lobe, 0.2 / kPi + lobe, 0.3 / kPi + 0.5 * lobe));
 }
 
 TEST(LowMicrofacet, HandValues) {
   const std::vector<double> p = values_of("low-microfacet", {"albedo=0.1", "A=3", "B=400", "C=0.8", "eta=2"});
   // l = v = n: S = 1, G = 1, F(2, 1) = 1/9: f = 0.1/π + 3·(1/9)/π.
-  expect_rgb_near(brdf("low-microfacet", p, kN, kN), Rgb<double>::Constant(0.1 / kPi + 3.0 / 9.0 / kPi));
+  expect_rgb_near(brdf("low-microfacet", p, kNormal, kNormal), Rgb<double>::Constant(0.1 / kPi + 3.0 / 9.0 / kPi));
   // Mirror pair: h = n, S = 1, G = min(1, 2) = 1, l·h = 0.8: f = 0.1/π + 3·F/(π·0.64).
   expect_rgb_near(brdf("low-microfacet", p, kL, kMirrorV),
                   Rgb<double>::Constant(0.1 / kPi + 3 * snell_fresnel(2, 0.8) / (kPi * 0.64)));
   // l = (0.6,0,0.8), v = n: l + v = (0.6,0,1.8), n·h = l·h = 1.8/√3.6; G = min(1, 1.6, 2) = 1.
   const double nh = 1.8 / std::sqrt(3.6);
   const double lobe = 3 * std::pow(1 + 400 * (1 - nh), -0.8) * snell_fresnel(2, nh) / (kPi * 0.8);
-  expect_rgb_near(brdf("low-microfacet", p, kL, kN), Rgb<double>::Constant(0.1 / kPi + lobe));
+  expect_rgb_near(brdf("low-microfacet", p, kL, kNormal), Rgb<double>::Constant(0.1 / kPi + lobe));
 }
 
 TEST(LowCookTorrance, HandValues) {
   const std::vector<double> p = values_of("low-cook-torrance", {"albedo=0.2", "specular=0.5", "m=0.3", "eta=1.5"});
   // l = v = n: D = 1/m² (no 1/π), G = 1, F = 0.04: f = 0.2/π + 0.5·0.04/(π·0.09).
-  expect_rgb_near(brdf("low-cook-torrance", p, kN, kN), Rgb<double>::Constant(0.2 / kPi + 0.5 * 0.04 / (kPi * 0.09)));
+  expect_rgb_near(brdf("low-cook-torrance", p, kNormal, kNormal),
+                  Rgb<double>::Constant(0.2 / kPi + 0.5 * 0.04 / (kPi * 0.09)));
   // l = (0.6,0,0.8), v = n: tan²θh = (0.6/1.8)² = 1/9, cos²θh = 0.9, G = 1, l·h = √0.9.
   const double d = std::exp(-1.0 / 9.0 / 0.09) / (0.09 * 0.81);
   const double lobe = 0.5 * d * snell_fresnel(1.5, std::sqrt(0.9)) / (kPi * 0.8);
-  expect_rgb_near(brdf("low-cook-torrance", p, kL, kN), Rgb<double>::Constant(0.2 / kPi + lobe));
+  expect_rgb_near(brdf("low-cook-torrance", p, kL, kNormal), Rgb<double>::Constant(0.2 / kPi + lobe));
 }
 
 TEST(LowAshikhminShirley, HandValues) {
@@ -103,12 +102,12 @@ TEST(LowAshikhminShirley, HandValues) {
       values_of("low-ashikhmin-shirley", {"albedo=0", "specular=0.4,0.2,0.1", "n=100", "eta=1.5"});
   // l = v = n: (n+1)/(8π)·1·F(1.5, 1)/(1·1).
   const double at_normal = 101 / (8 * kPi) * 0.04;
-  expect_rgb_near(brdf("low-ashikhmin-shirley", p, kN, kN),
+  expect_rgb_near(brdf("low-ashikhmin-shirley", p, kNormal, kNormal),
                   Rgb<double>(0.4 * at_normal, 0.2 * at_normal, 0.1 * at_normal));
   // l = (0.6,0,0.8), v = n: n·h = l·h = √0.9, max(n·l, n·v) = 1.
   const double c = std::sqrt(0.9);
   const double lobe = 101 / (8 * kPi) * std::pow(c, 100) * snell_fresnel(1.5, c) / c;
-  expect_rgb_near(brdf("low-ashikhmin-shirley", p, kL, kN), Rgb<double>(0.4 * lobe, 0.2 * lobe, 0.1 * lobe));
+  expect_rgb_near(brdf("low-ashikhmin-shirley", p, kL, kNormal), Rgb<double>(0.4 * lobe, 0.2 * lobe, 0.1 * lobe));
 }
 
 TEST(Sgd, HandValues) {
@@ -131,13 +130,13 @@ TEST(Sgd, HandValues) {
   // At normal incidence (θ = 0): R and G below θ0 (G1 = 1); B with θ0 = −0.3 still applies
   // the formula: c·0.3³ = 270, above the cap, clamped to 0. l·h = 1: F = f0 − f1.
   const double d_r = 10 * std::exp(-0.1) / std::pow(0.1, 0.5) / kPi, d_g = 5 * std::exp(-0.2) / kPi;
-  expect_rgb_near(brdf("sgd", p, kN, kN),
+  expect_rgb_near(brdf("sgd", p, kNormal, kNormal),
                   Rgb<double>(0.1 / kPi + d_r * 0.05 / kPi, 0.1 / kPi + d_g * 0.3 / kPi, 0.1 / kPi));
   // Negative θ0 with a moderate c: G1(0) = 1 + Λ(1 − exp(c·0.3^k)) < 1.
   const std::vector<double> q = values_of("sgd", {"albedo=0", "specular=1", "alpha=0.1", "p=0.5", "f0=0.05", "f1=0",
                                                   "K=10", "lambda=1", "c=2", "k=2", "theta0=-0.3"});
   const double g1 = 1 + (1 - std::exp(2 * 0.09));
-  EXPECT_NEAR(brdf("sgd", q, kN, kN)[0], d_r * 0.05 * g1 * g1 / kPi, 1e-12);
+  EXPECT_NEAR(brdf("sgd", q, kNormal, kNormal)[0], d_r * 0.05 * g1 * g1 / kPi, 1e-12);
   // c = 0 (no shadowing; below the bounds, where a fit's bound handling may put it) and k at
   // its bound 1000 with θ0 = −π/2 ((θ−θ0)^k ≈ e^1145): finite values and derivatives.
   const Model& sgd = *find_model("sgd");
@@ -186,7 +185,7 @@ TEST(Sgd, ContainsCookTorranceWhereItsShadowingIsOne) {
   const std::vector<double> outer = embed_values(sgd, nesting, ct, inner);
   EXPECT_NEAR(outer[sgd.offset_of("alpha")], 0.09, 1e-15);
   EXPECT_NEAR(outer[sgd.offset_of("K")], std::exp(0.09) / 0.09, 1e-12);
-  expect_rgb_near(sgd.shade(outer.data(), kL, kN), ct.shade(inner.data(), kL, kN), 1e-12);
+  expect_rgb_near(sgd.shade(outer.data(), kL, kNormal), ct.shade(inner.data(), kL, kNormal), 1e-12);
 }
 
 TEST(LowModels, AutodiffMatchesFiniteDifferencesAndIsReciprocal) {
@@ -222,7 +221,7 @@ TEST(LowModels, AutodiffMatchesFiniteDifferencesAndIsReciprocal) {
 }
 
 // The published fits bundled with the project (data/published-fits: BBM's files, with its licence).
-const std::string kPublishedFits = std::string(BRDFFIT_SOURCE_DIR) + "/data/published-fits";
+using test::kPublishedFits;
 
 TEST(LowModels, PublishedParametersReproduceIndependentValues) {
   const std::string& fits = kPublishedFits;
@@ -234,14 +233,14 @@ TEST(LowModels, PublishedParametersReproduceIndependentValues) {
   ASSERT_TRUE(ct.has_value());
   const double f_ct = snell_fresnel(1.29353, 1.0) / (kPi * 0.01082 * 0.01082);
   expect_rgb_near(
-      brdf("low-cook-torrance", ct->values, kN, kN),
+      brdf("low-cook-torrance", ct->values, kNormal, kNormal),
       Rgb<double>(0.0162 / kPi + 0.06877 * f_ct, 0.0399 / kPi + 0.06156 * f_ct, 0.109 / kPi + 0.05938 * f_ct), 1e-12);
   // low_lowsmooth_E2.fit, red-fabric: Lambertian [0.187, 0.0208, 0.0043], LowSmooth(A = [0.90493,
   // 0.29388, 0.25333], B = 15.477787, C = 0.50072, eta = 1.42381), at l = (0.6,0,0.8), v = n.
   const auto smooth = find_published_fit(fits + "/low_lowsmooth_E2.fit", "red-fabric", *find_model("low-smooth"));
   ASSERT_TRUE(smooth.has_value());
   const double s = std::pow(1 + 15.477787 * 0.36, -0.50072) * snell_fresnel(1.42381, std::sqrt(0.91));
-  expect_rgb_near(brdf("low-smooth", smooth->values, kL, kN),
+  expect_rgb_near(brdf("low-smooth", smooth->values, kL, kNormal),
                   Rgb<double>(0.187 / kPi + 0.90493 * s, 0.0208 / kPi + 0.29388 * s, 0.0043 / kPi + 0.25333 * s),
                   1e-12);
   // bagher_sgd.fit, gold-metallic-paint, red channel: Lambertian 0.0178625, albedo 0.17127,

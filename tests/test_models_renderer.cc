@@ -17,16 +17,11 @@ namespace {
 
 using test::dir;
 
-const Vec3 kNormal(0, 0, 1);
-const Vec3 k60X = dir(std::sqrt(3.0), 0, 1);  // 60° from the normal towards +x
-const double kCos30 = std::sqrt(3.0) / 2;
+using test::kCos30;
+using test::kNormal;
+using test::shade;
 
-Rgb<double> shade(const std::string& name, const std::vector<std::string>& params, const Vec3& l, const Vec3& v) {
-  const Model* model = find_model(name);
-  EXPECT_NE(model, nullptr) << name;
-  const std::vector<double> values = parameter_values(*model, params);
-  return model->shade(values.data(), l, v);
-}
+const Vec3 k60X = dir(std::sqrt(3.0), 0, 1);  // 60° from the normal towards +x
 
 // Cosine-weighted integral of the shaded value over the light directions: the directional
 // albedo seen from v (midpoint rule in θ and φ).

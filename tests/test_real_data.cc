@@ -13,7 +13,7 @@ namespace brdffit {
 namespace {
 
 const std::string kBundledRgl = std::string(BRDFFIT_SOURCE_DIR) + "/data/cc_ibiza_sunset_rgb.bsdf";
-const std::string kPublishedFits = std::string(BRDFFIT_SOURCE_DIR) + "/data/published-fits";
+using test::kPublishedFits;
 
 FitResult fit(const std::string& model, const SampleSet& data) {
   const FitResult result = fit_model(*find_model(model), data, FitOptions{});

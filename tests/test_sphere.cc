@@ -21,16 +21,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Expects `body` to throw an Error whose message contains every one of `parts`.
-template <class Body>
-void expect_error(Body&& body, const std::vector<std::string>& parts) {
-  try {
-    body();
-    ADD_FAILURE() << "no error thrown";
-  } catch (const Error& e) {
-    for (const std::string& part : parts) EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
-  }
-}
+using test::expect_error;
 
 const std::string kDiligentBall = BRDFFIT_SHARED_DIR "/data/diligent-ball";
 

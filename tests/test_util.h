@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -18,6 +19,7 @@
 
 #include "brdffit/error.h"
 #include "brdffit/model.h"
+#include "brdffit/registry.h"
 #include "brdffit/samples.h"
 
 namespace brdffit::test {
@@ -40,6 +42,22 @@ std::string error_of(F&& f) {
   } catch (const Error& e) {
     return e.what();
   }
+  return "";
+}
+
+// Expects `action` to throw brdffit::Error (nothing else) whose message contains every
+// fragment; returns the message.
+template <class Action>
+std::string expect_error(Action&& action, const std::vector<std::string>& fragments) {
+  try {
+    action();
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    for (const std::string& f : fragments)
+      EXPECT_NE(message.find(f), std::string::npos) << "'" << f << "' not in: " << message;
+    return message;
+  }
+  ADD_FAILURE() << "expected an error mentioning '" << fragments.front() << "'";
   return "";
 }
 
@@ -164,6 +182,37 @@ inline SampleSet model_table(const Model& model, const std::vector<double>& valu
 }
 
 inline Vec3 dir(double x, double y, double z) { return Vec3(x, y, z).normalized(); }
+
+// The published fits bundled in data/ (BBM's .fit files).
+inline const std::string kPublishedFits = std::string(BRDFFIT_SOURCE_DIR) + "/data/published-fits";
+
+inline const Vec3 kNormal(0, 0, 1);
+inline const double kCos30 = std::sqrt(3.0) / 2;
+
+// A registered model's shaded value for the "NAME=VALUE" assignments (parameter_values).
+inline Rgb<double> shade(const std::string& model_name, const std::vector<std::string>& assignments, const Vec3& l,
+                         const Vec3& v) {
+  const Model* model = find_model(model_name);
+  EXPECT_NE(model, nullptr) << model_name;
+  if (!model) return Rgb<double>::Zero();
+  const std::vector<double> values = parameter_values(*model, assignments);
+  return model->shade(values.data(), l, v);
+}
+
+// The same for one channel, when the assignments make all channels equal (checked).
+inline double shade1(const std::string& model_name, const std::vector<std::string>& assignments, const Vec3& l,
+                     const Vec3& v) {
+  const Rgb<double> s = shade(model_name, assignments, l, v);
+  EXPECT_NEAR(s[0], s[1], 1e-15);
+  EXPECT_NEAR(s[1], s[2], 1e-15);
+  return s[0];
+}
+
+// Each channel within `relative` of the expected value's magnitude.
+inline void expect_rgb_near(const Rgb<double>& actual, const Rgb<double>& expected, double relative = 1e-12) {
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(actual[c], expected[c], relative * std::max(1e-300, std::abs(expected[c]))) << "channel " << c;
+}
 
 struct CommandResult {
   int exit_code;
