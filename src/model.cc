@@ -49,6 +49,27 @@ const ParamSpec* Model::find_parameter(const std::string& param_name) const {
   return nullptr;
 }
 
+Rgb<double> Model::shade_linear_parts(const double* values, const Vec3& l, const Vec3& v, Rgb<double>* basis) const {
+  std::vector<double> probe(values, values + num_values());
+  std::vector<std::pair<int, int>> linear;  // offset and channels of each linear parameter
+  int offset = 0;
+  for (const ParamSpec& p : parameters()) {
+    if (p.linear) {
+      linear.emplace_back(offset, p.channels);
+      std::fill_n(probe.begin() + offset, p.channels, 0.0);
+    }
+    offset += p.channels;
+  }
+  const Rgb<double> base = shade(probe.data(), l, v);
+  for (size_t j = 0; j < linear.size(); ++j) {
+    const auto [at, channels] = linear[j];
+    std::fill_n(probe.begin() + at, channels, 1.0);
+    basis[j] = shade(probe.data(), l, v) - base;
+    std::fill_n(probe.begin() + at, channels, 0.0);
+  }
+  return base;
+}
+
 const std::vector<Nesting>& Model::nestings() const {
   static const std::vector<Nesting> none;
   return none;

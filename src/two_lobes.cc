@@ -67,11 +67,13 @@ class TwoLobes final : public Model, public BatchCostSource {
                " lobe: two specular lobes over one Lambert base";
 
     params_.push_back(first.parameters().front());  // albedo
+    int linear_index = 1;                           // albedo's is 0
     for (int k = 0; k < 2; ++k) {
       const Model& lobe = *lobes_[k];
       lobe_offset_[k] = num_flattened_;
       for (auto it = std::next(lobe.parameters().begin()); it != lobe.parameters().end(); ++it) {
         const ParamSpec& p = *it;
+        if (p.linear) linear_of_component_[k].push_back(linear_index++);
         ParamSpec renamed = p;
         if (k == 1) {
           renamed.name += kSuffix;
@@ -124,6 +126,29 @@ class TwoLobes final : public Model, public BatchCostSource {
     return lobes(values, jacobian,
                  [&](const Model& m, const double* p, double* j) { return m.shade_with_jacobian(p, l, v, j); }) +
            colour_of(values) * (kInvPi * l.z());
+  }
+
+  // From the components' own splits, one evaluation of each lobe: the albedo's part is n·l/π; the
+  // weighted second lobe contributes w·L(0) (weight_2's part) and (w·x_j)·(L(e_j) − L(0)) (lobes()).
+  Rgb<double> shade_linear_parts(const double* values, const Vec3& l, const Vec3& v,
+                                 Rgb<double>* basis) const override {
+    const int composite_linear =
+        static_cast<int>(linear_of_component_[0].size() + linear_of_component_[1].size()) + (weighted_ ? 2 : 1);
+    std::fill_n(basis, composite_linear, Rgb<double>::Zero());
+    if (l.z() <= 0.0) return Rgb<double>::Zero();
+    basis[0] = Rgb<double>::Constant(kInvPi * l.z());
+    std::array<Rgb<double>, kMaxComponentValues> parts;  // a component's albedo's, then its other linear ones'
+    Rgb<double> base = Rgb<double>::Zero();
+    for (int k = 0; k < 2; ++k) {
+      const Values p = component_values(k, values);
+      const Rgb<double> lobe_base = lobes_[k]->shade_linear_parts(p.data(), l, v, parts.data());
+      for (size_t j = 0; j < linear_of_component_[k].size(); ++j) basis[linear_of_component_[k][j]] = parts[j + 1];
+      if (k == 1 && weighted_)
+        basis[composite_linear - 1] = lobe_base;  // weight_2, the last parameter
+      else
+        base += lobe_base;
+    }
+    return base;
   }
 
   ceres::CostFunction* new_batch_cost(const ResidualBatch& batch) const override {
@@ -237,6 +262,8 @@ class TwoLobes final : public Model, public BatchCostSource {
 
   std::array<const Model*, 2> lobes_;
   std::array<int, 2> lobe_offset_{};  // where each component's values after its albedo start in the composite's
+  // The composite's linear index (Model::shade_linear_parts) of each component's linear parameters but albedo.
+  std::array<std::vector<int>, 2> linear_of_component_;
   // Weighted second lobe: its linear colours, as (offset in the component, offset in the composite).
   std::vector<std::pair<int, int>> scaled_linear_;
   std::string name_, summary_;

@@ -57,8 +57,6 @@ double solve_linear(const Model& model, std::vector<double>& values, const std::
   if (linear.empty()) return NAN;
   const int m = static_cast<int>(linear.size());
 
-  std::vector<double> probe = values;
-  for (const ParamSpec* p : linear) std::fill_n(probe.begin() + model.offset_of(p->name), 3, 0.0);
   std::array<Eigen::MatrixXd, 3> a;
   std::array<Eigen::VectorXd, 3> b;
   std::array<double, 3> target_squares{0.0, 0.0, 0.0};  // Σ w·target², for the cost at the solution
@@ -68,13 +66,7 @@ double solve_linear(const Model& model, std::vector<double>& values, const std::
   }
   std::vector<Rgb<double>> basis(m);
   for (const Sample& s : samples) {
-    const Rgb<double> base = model.shade(probe.data(), s.l, s.v);
-    for (int j = 0; j < m; ++j) {
-      const int offset = model.offset_of(linear[j]->name);
-      std::fill_n(probe.begin() + offset, 3, 1.0);
-      basis[j] = model.shade(probe.data(), s.l, s.v) - base;
-      std::fill_n(probe.begin() + offset, 3, 0.0);
-    }
+    const Rgb<double> base = model.shade_linear_parts(values.data(), s.l, s.v, basis.data());
     for (int c = 0; c < 3; ++c) {
       if (!channels[c]) continue;
       const double w = metric_linear_weight(metric, s.weight, s.value[c]);

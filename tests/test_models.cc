@@ -263,6 +263,52 @@ TEST(AllModels, LinearParametersEnterAffinely) {
   }
 }
 
+// Variable projection's split of the shaded value (Model::shade_linear_parts, one evaluation with
+// Jets for registered models) against the definition by evaluations: the base is the value with
+// the linear parameters at 0, basis j the change from there when the j-th is 1, and base + Σ x_j·basis_j
+// the value itself. Where the linear parameters are 0 a model that skipped a lobe whose scale is 0
+// would have no derivative there: the split is taken at 0 by construction, so this checks it too.
+TEST(AllModels, TheirLinearPartsAreTheirValuesSplitAlongTheLinearParameters) {
+  std::mt19937_64 rng(19);
+  std::vector<const Model*> models;
+  for (const auto& m : all_models()) models.push_back(m.get());
+  for (const char* composite : {"ggx+ggx", "cook-torrance+ward"}) models.push_back(find_model(composite));
+  for (const Model* m : models) {
+    ASSERT_NE(m, nullptr);
+    SCOPED_TRACE(m->name());
+    std::vector<std::pair<int, int>> linear;  // offset and channels
+    int offset = 0;
+    for (const ParamSpec& p : m->parameters()) {
+      if (p.linear) linear.emplace_back(offset, p.channels);
+      offset += p.channels;
+    }
+    for (int trial = 0; trial < 50; ++trial) {
+      const std::vector<double> values = test::random_values(*m, rng);
+      const Vec3 l = test::random_upper_direction(rng), v = test::random_upper_direction(rng);
+      std::vector<Rgb<double>> basis(linear.size());
+      const Rgb<double> base = m->shade_linear_parts(values.data(), l, v, basis.data());
+      std::vector<double> zero = values;
+      for (const auto& [at, channels] : linear) std::fill_n(zero.begin() + at, channels, 0.0);
+      const Rgb<double> expected_base = m->shade(zero.data(), l, v);
+      Rgb<double> rebuilt = base;
+      const double scale = std::max(1.0, m->shade(values.data(), l, v).cwiseAbs().maxCoeff());
+      for (size_t j = 0; j < linear.size(); ++j) {
+        std::vector<double> unit = zero;
+        std::fill_n(unit.begin() + linear[j].first, linear[j].second, 1.0);
+        const Rgb<double> expected = m->shade(unit.data(), l, v) - expected_base;
+        for (int c = 0; c < 3; ++c) {
+          ASSERT_NEAR(basis[j][c], expected[c], 1e-12 * std::max(1.0, std::abs(expected[c]))) << "basis " << j;
+          rebuilt[c] += values[linear[j].first + c % linear[j].second] * basis[j][c];
+        }
+      }
+      for (int c = 0; c < 3; ++c) {
+        ASSERT_NEAR(base[c], expected_base[c], 1e-12 * std::max(1.0, std::abs(expected_base[c])));
+        ASSERT_NEAR(rebuilt[c], m->shade(values.data(), l, v)[c], 1e-10 * scale);
+      }
+    }
+  }
+}
+
 // --- parameters and the CLI ------------------------------------------------------------------
 
 TEST(Parameters, RejectsUnknownMalformedAndOutOfBounds) {

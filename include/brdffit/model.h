@@ -83,6 +83,14 @@ class Model {
   virtual Rgb<double> shade_with_jacobian(const double* values, const Vec3& l, const Vec3& v,
                                           double* jacobian) const = 0;
 
+  // The shaded value split along the linear parameters (ParamSpec::linear), in which it is affine
+  // channel by channel: returns the value with those parameters at 0, whatever `values` holds
+  // there, and writes to basis[j] its change per unit of the j-th linear parameter (in the order
+  // of parameters()), so that shade = base + Σ_j x_j·basis[j]. Variable projection's pass over
+  // the samples (variable_projection.h). This default evaluates shade() once per linear
+  // parameter and once more; registered models do it in one evaluation (model_adapter.h).
+  virtual Rgb<double> shade_linear_parts(const double* values, const Vec3& l, const Vec3& v, Rgb<double>* basis) const;
+
   // The simpler models this one contains (see Nesting); empty for none.
   virtual const std::vector<Nesting>& nestings() const;
   // f = albedo/π + a lobe that does not depend on albedo, albedo the first parameter (a colour):

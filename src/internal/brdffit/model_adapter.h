@@ -14,6 +14,8 @@
 
 #include <ceres/jet.h>
 
+#include <algorithm>
+#include <iterator>
 #include <stdexcept>
 #include <type_traits>
 
@@ -34,6 +36,20 @@ class ModelAdapter final : public Model, public BatchCostSource {
     if constexpr (SeparateChannels<M>::value)
       if (parameter_slots<M>().slots() != M::kNumParameters || flattened_size(params_) != M::kNumValues)
         throw std::logic_error(name_ + ": kNumParameters or kNumValues does not match parameters()");
+    // The derivative slot of each linear value in shade_linear_parts: the parameter's own with
+    // separate channels (channel c's derivative there is the one by component c), else one per value.
+    std::fill(std::begin(linear_slot_), std::end(linear_slot_), -1);
+    int offset = 0;
+    for (const ParamSpec& p : params_) {
+      if (p.linear) {
+        if (linear_count_ == kMaxLinearParameters)
+          throw std::logic_error(name_ + ": more linear parameters than ModelAdapter::kMaxLinearParameters");
+        for (int c = 0; c < p.channels; ++c)
+          linear_slot_[offset + c] = SeparateChannels<M>::value ? linear_count_ : 3 * linear_count_ + c;
+        ++linear_count_;
+      }
+      offset += p.channels;
+    }
   }
 
   const std::string& name() const override { return name_; }
@@ -75,6 +91,20 @@ class ModelAdapter final : public Model, public BatchCostSource {
     return Rgb<double>(s[0].a, s[1].a, s[2].a);
   }
 
+  // One evaluation with Jets whose derivatives are those by the linear parameters, exact since the
+  // value is affine in them: for sgd a third of the cost of evaluating three times.
+  Rgb<double> shade_linear_parts(const double* values, const Vec3& l, const Vec3& v,
+                                 Rgb<double>* basis) const override {
+    constexpr bool kPerParameter = SeparateChannels<M>::value;
+    using Jet = ceres::Jet<double, kPerParameter ? kMaxLinearParameters : 3 * kMaxLinearParameters>;
+    Jet p[M::kNumValues];
+    for (int i = 0; i < M::kNumValues; ++i) p[i] = linear_slot_[i] < 0 ? Jet(values[i]) : Jet(0.0, linear_slot_[i]);
+    const Rgb<Jet> s = shade_of<M>(p, l, v);
+    for (int j = 0; j < linear_count_; ++j)
+      for (int c = 0; c < 3; ++c) basis[j][c] = s[c].v[kPerParameter ? j : 3 * j + c];
+    return Rgb<double>(s[0].a, s[1].a, s[2].a);
+  }
+
   const std::vector<Nesting>& nestings() const override { return nestings_; }
   bool is_lobe_over_lambert() const override { return models::IsOverLambert<M>::value; }
   const RecoveryFacts& recovery_facts() const override { return recovery_facts_; }
@@ -92,8 +122,12 @@ class ModelAdapter final : public Model, public BatchCostSource {
   template <template <class> class Member, class N>
   struct Declares<Member, N, std::void_t<Member<N>>> : std::true_type {};
 
+  static constexpr int kMaxLinearParameters = 2;  // the most any model has (albedo and specular)
+
   std::string name_, summary_;
   std::vector<ParamSpec> params_;
+  int linear_slot_[M::kNumValues];  // -1 for a value that is not linear
+  int linear_count_ = 0;
   std::vector<Nesting> nestings_;
   RecoveryFacts recovery_facts_;
 };
