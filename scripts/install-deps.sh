@@ -3,7 +3,7 @@
 # package is already there it only checks (no apt-get update, no network).
 set -euo pipefail
 packages=(
-  cmake g++ make pkg-config xz-utils clang-format
+  cmake g++ make ninja-build pkg-config xz-utils clang-format
   libceres-dev libeigen3-dev libopenimageio-dev
   # Only the OpenCV modules brdffit uses (cmake/brdffitOpenCV.cmake finds them without OpenCV's
   # CMake package): libopencv-dev would add every other module with VTK, Qt, ...

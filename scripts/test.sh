@@ -29,11 +29,18 @@ trap print_phases EXIT
 # (722 → ~360 CPU s in Release). A developer's `cmake -S . -B build` compiles file by file, which
 # rebuilds less after an edit; these runs keep the sources safe to join (no two files may define
 # the same name in an anonymous namespace: shared test helpers live in tests/*_util.h).
+# With Ninja, which compiles a target's files while the libraries it links are still being built
+# (make waits for them, and one core idled while the other compiled src/registry.cc), unless the
+# folder was configured earlier with another generator, which CMake cannot switch.
 configure_and_build() {  # build-dir, extra cmake args...
   local dir=$1
   shift
   mkdir -p "$dir"
-  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Release -DCMAKE_UNITY_BUILD=ON "$@" > "$dir.configure.log" 2>&1 || { cat "$dir.configure.log"; exit 1; }
+  local generator=(-G Ninja)
+  if [[ -f $dir/CMakeCache.txt ]] && ! grep -qx 'CMAKE_GENERATOR:INTERNAL=Ninja' "$dir/CMakeCache.txt"; then
+    generator=()
+  fi
+  cmake -S . -B "$dir" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release -DCMAKE_UNITY_BUILD=ON "$@" > "$dir.configure.log" 2>&1 || { cat "$dir.configure.log"; exit 1; }
   cmake --build "$dir" -j "$jobs"
 }
 run_ctest() {  # build-dir: every test it lists, with a JUnit report for the summary
