@@ -99,9 +99,11 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
     clock.lap("grid");
     // Searched from, besides the grid points themselves: the search does not always end in the
     // better basin.
-    if (many_shape_parameters(model))
+    if (many_shape_parameters(model)) {
+      SolvedCosts known(model);
       for (size_t i = 0, n = starts.size(); i < n; ++i)
-        starts.push_back(coordinate_search(model, starts[i], small, options.metric, channels, options));
+        starts.push_back(coordinate_search(model, starts[i], small, options.metric, channels, options, known));
+    }
     clock.lap("coordinate search");
     // The contained models' optima are refined too: the multi-start grid may not come near them.
     for (std::vector<double> nested : nested_starts) {

@@ -109,24 +109,51 @@ bool many_shape_parameters(const Model& model) {
   return std::count_if(params.begin(), params.end(), [](const ParamSpec& p) { return !p.linear; }) > 5;
 }
 
+SolvedCosts::SolvedCosts(const Model& model) {
+  for (const ParamSpec& p : model.parameters()) linear_.insert(linear_.end(), p.channels, p.linear);
+}
+
+std::vector<double> SolvedCosts::shape_of(const std::vector<double>& values) const {
+  std::vector<double> shape = values;
+  for (size_t i = 0; i < shape.size(); ++i)
+    if (linear_[i]) shape[i] = 0.0;
+  return shape;
+}
+
+const Start* SolvedCosts::find(const std::vector<double>& values) const {
+  const auto it = known_.find(shape_of(values));
+  return it == known_.end() ? nullptr : &it->second;
+}
+
+void SolvedCosts::add(const Start& point) { known_.emplace(shape_of(point.values), point); }
+
 Start coordinate_search(const Model& model, Start start, const std::vector<Sample>& samples, Metric metric,
-                        const Channels& channels, const FitOptions& options) {
+                        const Channels& channels, const FitOptions& options, SolvedCosts& known) {
   constexpr int kValuesPerParameter = 24, kMaxPasses = 10;
   std::vector<const ParamSpec*> shape;
   for (const ParamSpec& p : model.parameters())
     if (!p.linear) shape.push_back(&p);
+  known.add(start);
   for (int pass = 0; pass < kMaxPasses; ++pass) {
     bool improved = false;
     for (const ParamSpec* p : shape) {
       stop_if_cancelled(options);
       const std::vector<double> axis = grid_axis(*p, kValuesPerParameter);
       std::vector<Start> tries(axis.size());
-      parallel_for(axis.size(), thread_count(options.threads), [&](size_t k) {
-        std::vector<double> values = start.values;
-        std::fill_n(values.begin() + model.offset_of(p->name), p->channels, axis[k]);
-        const double cost = solved_cost(model, values, samples, metric, channels);
-        tries[k] = {std::move(values), cost};
+      std::vector<size_t> unknown;
+      for (size_t k = 0; k < axis.size(); ++k) {
+        tries[k].values = start.values;
+        std::fill_n(tries[k].values.begin() + model.offset_of(p->name), p->channels, axis[k]);
+        if (const Start* met = known.find(tries[k].values))
+          tries[k] = *met;
+        else
+          unknown.push_back(k);
+      }
+      parallel_for(unknown.size(), thread_count(options.threads), [&](size_t i) {
+        Start& t = tries[unknown[i]];
+        t.cost = solved_cost(model, t.values, samples, metric, channels);
       });
+      for (size_t k : unknown) known.add(tries[k]);
       for (Start& t : tries)
         if (t.cost < start.cost * (1 - 1e-9)) {
           start = std::move(t);

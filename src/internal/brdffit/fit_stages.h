@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -75,6 +76,24 @@ bool has_non_linear_colour(const Model& model);
 // Where the grid is a Halton design rather than a lattice, and the coordinate search runs.
 bool many_shape_parameters(const Model& model);
 
+// The solved costs a fit's coordinate searches have met, by shape values (the linear values do not
+// change them: they are solved). A search often tries a point again: a parameter's axis in a pass
+// where no other parameter has changed since its last, or a point on another search's path, after
+// which it walks that path (openpbr's searches from six starts end at three points). A point met
+// again is not evaluated again; the searches' results are the same.
+class SolvedCosts {
+ public:
+  explicit SolvedCosts(const Model& model);
+  // The point with these shape values (its linear values solved) and its cost, or nullptr.
+  const Start* find(const std::vector<double>& values) const;
+  void add(const Start& point);
+
+ private:
+  std::vector<double> shape_of(const std::vector<double>& values) const;  // linear values at 0
+  std::vector<bool> linear_;                                              // per flattened value
+  std::map<std::vector<double>, Start> known_;
+};
+
 // Coordinate search from a grid point, for models with many shape parameters: each parameter in
 // turn is tried at values spread over its range (the others held, colours set in every channel,
 // the linear parameters solved), keeping any improvement, until a pass changes nothing. A
@@ -84,7 +103,7 @@ bool many_shape_parameters(const Model& model);
 // doubles are most of the fit's time. Searching a third of the subsample instead cost sgd 8 %
 // in error on blue-acrylic: the search needs the subsample's grazing samples.)
 Start coordinate_search(const Model& model, Start start, const std::vector<Sample>& samples, Metric metric,
-                        const Channels& channels, const FitOptions& options);
+                        const Channels& channels, const FitOptions& options, SolvedCosts& known);
 
 // ---------------------------------------------------------------------------------------------
 // Trust-region least squares with Ceres (least_squares.cc).

@@ -1,0 +1,93 @@
+// The fitter's starts (fit_starts.cc): the coordinate search and the solved costs its searches
+// share, which must give the same points as evaluating them again.
+#include <gtest/gtest.h>
+
+#include <atomic>
+
+#include "brdffit/fit_stages.h"
+#include "brdffit/registry.h"
+#include "test_util.h"
+
+namespace brdffit {
+namespace {
+
+using fitting::coordinate_search;
+using fitting::solved_cost;
+using fitting::SolvedCosts;
+using fitting::Start;
+
+// A registered model that counts its evaluations with doubles.
+class CountingModel final : public Model {
+ public:
+  explicit CountingModel(const Model& model) : model_(model) {}
+  const std::string& name() const override { return model_.name(); }
+  const std::string& summary() const override { return model_.summary(); }
+  const std::vector<ParamSpec>& parameters() const override { return model_.parameters(); }
+  bool has_brdf() const override { return model_.has_brdf(); }
+  bool energy_conserving() const override { return model_.energy_conserving(); }
+  Rgb<double> shade(const double* values, const Vec3& l, const Vec3& v) const override {
+    ++evaluations;
+    return model_.shade(values, l, v);
+  }
+  std::optional<Rgb<double>> brdf(const double* values, const Vec3& l, const Vec3& v) const override {
+    return model_.brdf(values, l, v);
+  }
+  Rgb<double> shade_with_jacobian(const double* values, const Vec3& l, const Vec3& v, double* jacobian) const override {
+    return model_.shade_with_jacobian(values, l, v, jacobian);
+  }
+  Rgb<double> shade_linear_parts(const double* values, const Vec3& l, const Vec3& v,
+                                 Rgb<double>* basis) const override {
+    ++evaluations;
+    return model_.shade_linear_parts(values, l, v, basis);
+  }
+
+  mutable std::atomic<long> evaluations{0};
+
+ private:
+  const Model& model_;
+};
+
+TEST(SolvedCosts, FindsAPointByItsShapeValuesWhateverItsLinearValues) {
+  const Model& ggx = *find_model("ggx");
+  SolvedCosts known(ggx);
+  const std::vector<double> point = parameter_values(ggx, {"albedo=0.2", "roughness=0.3", "f0=0.04"});
+  known.add({point, 1.5});
+  const Start* found = known.find(parameter_values(ggx, {"albedo=0.7,0.1,0", "roughness=0.3", "f0=0.9"}));
+  ASSERT_NE(found, nullptr);
+  EXPECT_EQ(found->values, point);  // as solved, not as asked
+  EXPECT_EQ(found->cost, 1.5);
+  EXPECT_EQ(known.find(parameter_values(ggx, {"albedo=0.2", "roughness=0.30000001", "f0=0.04"})), nullptr);
+}
+
+TEST(CoordinateSearch, APointMetBeforeIsNotEvaluatedAgainAndGivesTheSameResult) {
+  // sgd's published-fit material, searched from its defaults on 2 000 samples: a second search
+  // from the same start with what the first met evaluates nothing and ends where it ended; a
+  // search with nothing known ends there too, at the cost a fresh solve gives.
+  const CountingModel sgd(*find_model("sgd"));
+  const std::vector<double> truth = parameter_values(sgd, find_model("sgd")->recovery_facts().material);
+  const SampleSet data = test::model_table(sgd, truth, 2000, 0.01, 5, 0.05);
+  FitOptions options;
+  options.threads = 1;
+  Start start{sgd.default_values(), 0.0};
+  start.cost = solved_cost(sgd, start.values, data.samples, options.metric, kAllChannels);
+
+  SolvedCosts known(sgd);
+  const Start first = coordinate_search(sgd, start, data.samples, options.metric, kAllChannels, options, known);
+  EXPECT_LT(first.cost, 0.5 * start.cost);
+  std::vector<double> again = first.values;
+  EXPECT_EQ(solved_cost(sgd, again, data.samples, options.metric, kAllChannels), first.cost);
+
+  sgd.evaluations = 0;
+  const Start second = coordinate_search(sgd, start, data.samples, options.metric, kAllChannels, options, known);
+  EXPECT_EQ(sgd.evaluations, 0);
+  EXPECT_EQ(second.values, first.values);
+  EXPECT_EQ(second.cost, first.cost);
+
+  SolvedCosts nothing_known(sgd);
+  const Start fresh = coordinate_search(sgd, start, data.samples, options.metric, kAllChannels, options, nothing_known);
+  EXPECT_GT(sgd.evaluations, 0);
+  EXPECT_EQ(fresh.values, first.values);
+}
+
+}  // namespace
+}  // namespace brdffit
