@@ -25,10 +25,11 @@ trap print_phases EXIT
 
 # Both builds are unity builds (CMake joins the sources of a target, 8 at a time, into one file):
 # every file parses the same heavy headers (Ceres, Eigen, fmt, nlohmann::json, CLI11, gtest) and
-# instantiates the same templates, and compiling them together halved the CPU time of the builds
-# (722 → ~360 CPU s in Release). A developer's `cmake -S . -B build` compiles file by file, which
-# rebuilds less after an edit; these runs keep the sources safe to join (no two files may define
-# the same name in an anonymous namespace: shared test helpers live in tests/*_util.h).
+# instantiates the same templates, and compiling them together cut the builds' CPU time by a
+# third (Release: 720 → 480 CPU s; docs/testing.md has the phases' times). A developer's
+# `cmake -S . -B build` compiles file by file, which rebuilds less after an edit; these runs keep
+# the sources safe to join (no two files may define the same name in an anonymous namespace:
+# shared test helpers live in tests/*_util.h).
 # With Ninja, which compiles a target's files while the libraries it links are still being built
 # (make waits for them, and one core idled while the other compiled src/registry.cc), unless the
 # folder was configured earlier with another generator, which CMake cannot switch.
