@@ -135,6 +135,60 @@ TEST(Ggx, HandValues) {
   expect_channels_near(shade("ggx", {}, dir(0, 1, -0.1), dir(0, 0, 1)), 0, 0, 0);
 }
 
+// sgd computes a channel's lobe once when its shape values are those of the channel before (the
+// grid and the coordinate search set them alike in the three channels). From such a point, each
+// shape value of channel 0 is changed in turn: channels 1 and 2 keep their values, derivatives and
+// linear parts to the bit, so a reuse that overlooked any one shape value would show.
+TEST(Sgd, AChannelShapedLikeTheOneBeforeIsShadedAsOnItsOwn) {
+  const Model& sgd = *find_model("sgd");
+  const int n = sgd.num_values();
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> unit(0.1, 0.9);
+  auto evaluate = [&](const std::vector<double>& values, const Vec3& l, const Vec3& v) {
+    std::vector<double> out(3 * n + 6);  // Jacobian, then the linear parts (albedo's, specular's)
+    const Rgb<double> shaded = sgd.shade_with_jacobian(values.data(), l, v, out.data());
+    Rgb<double> basis[2];
+    EXPECT_EQ(sgd.shade_linear_parts(values.data(), l, v, basis), Rgb<double>::Zero());  // all linear here
+    for (int j = 0; j < 2; ++j)
+      for (int c = 0; c < 3; ++c) out[3 * n + 3 * j + c] = basis[j][c];
+    return std::make_pair(shaded, out);
+  };
+  std::vector<const ParamSpec*> shape;
+  for (const ParamSpec& p : sgd.parameters())
+    if (!p.linear) shape.push_back(&p);
+  for (int trial = 0; trial < 10; ++trial) {
+    // Bagher's median material (the defaults) with a wider lobe and a shadowing that acts from
+    // θ0 = 0.4 rad on, seen from beyond it: there every shape value matters.
+    std::vector<double> alike = sgd.default_values();
+    const std::pair<const char*, double> shaped[] = {
+        {"alpha", 0.3}, {"lambda", 1.5}, {"c", 0.3}, {"k", 3.0}, {"theta0", 0.4}};
+    for (int c = 0; c < 3; ++c) {
+      alike[sgd.offset_of("albedo") + c] = unit(rng);
+      alike[sgd.offset_of("specular") + c] = unit(rng);
+      for (const auto& [name, value] : shaped) alike[sgd.offset_of(name) + c] = value;
+    }
+    auto direction = [&] {
+      const double theta = 0.5 + 0.7 * unit(rng), phi = 2.0 * kPi * unit(rng);
+      return Vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+    };
+    const Vec3 l = direction(), v = direction();
+    const auto [alike_shade, alike_out] = evaluate(alike, l, v);
+    for (const ParamSpec* p : shape) {
+      SCOPED_TRACE(p->name);
+      std::vector<double> apart = alike;
+      double& changed = apart[sgd.offset_of(p->name)];
+      changed = p->spacing == Spacing::Log ? changed * 1.5 : changed + 0.05 * (p->upper - p->lower);
+      const auto [apart_shade, apart_out] = evaluate(apart, l, v);
+      EXPECT_NE(apart_shade[0], alike_shade[0]);  // the change matters
+      for (int c = 1; c < 3; ++c) {
+        EXPECT_EQ(apart_shade[c], alike_shade[c]) << "channel " << c;
+        for (int i = 0; i < n; ++i) EXPECT_EQ(apart_out[c * n + i], alike_out[c * n + i]) << "channel " << c;
+        for (int j = 0; j < 2; ++j) EXPECT_EQ(apart_out[3 * n + 3 * j + c], alike_out[3 * n + 3 * j + c]);
+      }
+    }
+  }
+}
+
 // --- properties of every model ------------------------------------------------------------
 
 TEST(AllModels, AutodiffGradientsMatchCentralDifferences) {

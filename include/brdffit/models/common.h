@@ -1,6 +1,8 @@
 // Pieces shared by the model files: the standard parameters and the Lambert base.
 #pragma once
 
+#include <type_traits>
+
 #include "brdffit/math.h"
 #include "brdffit/model.h"
 #include "brdffit/param.h"
@@ -118,6 +120,16 @@ inline Nesting lambert_in_shader(std::vector<std::pair<std::string, double>> fix
 // that agree for narrow lobes (Walter et al. 2007 compare them at α = m).
 inline double beckmann_m_to_ggx_roughness(double m) { return std::sqrt(m); }
 inline double ggx_roughness_to_beckmann_m(double roughness) { return roughness * roughness; }
+
+// Whether a and b are the same number with the same derivatives (ceres::Jet's == compares the
+// numbers only).
+template <class T>
+bool identical(const T& a, const T& b) {
+  if constexpr (std::is_arithmetic_v<T>)
+    return a == b;
+  else
+    return a.a == b.a && a.v == b.v;
+}
 
 template <class T>
 Rgb<T> colour(const T* c) {

@@ -50,7 +50,7 @@ Rgb<T> gltf_metallic_roughness(const T* base_color, const T& metallic, const T& 
   Rgb<T> f(T(0.0), T(0.0), T(0.0));
   if (nl <= 0.0 || nv <= 0.0) return f;
   const double vh = std::abs(v.dot(half_vector(l, v)));
-  const double w = std::pow(1.0 - vh, 5);
+  const double w = schlick_weight(vh);
   const T specular = gltf_specular_vd(roughness, l, v);
   Rgb<T> dielectric_fresnel;
   for (int c = 0; c < 3; ++c) dielectric_fresnel[c] = dielectric_f0[c] + (dielectric_f90 - dielectric_f0[c]) * w;

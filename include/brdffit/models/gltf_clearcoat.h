@@ -39,7 +39,7 @@ Rgb<T> gltf_clearcoat_mix(const Rgb<T>& material, const T& clearcoat, const T& c
                           const Vec3& v) {
   constexpr double kClearcoatIor = 1.5;  // the extension's, fixed
   const double r = (1.0 - kClearcoatIor) / (1.0 + kClearcoatIor), f0 = r * r;
-  const double clearcoat_fresnel = f0 + (1.0 - f0) * std::pow(1.0 - std::abs(v.z()), 5);  // n_c = n
+  const double clearcoat_fresnel = f0 + (1.0 - f0) * schlick_weight(std::abs(v.z()));  // n_c = n
   const T clearcoat_brdf = gltf_specular_vd(clearcoat_roughness, l, v);
   const T weight = clearcoat * clearcoat_fresnel;
   Rgb<T> f;

@@ -129,28 +129,57 @@ struct SgdLobe : Lobe {
     return g1 > T(0.0) ? g1 : T(0.0);
   }
 
+  // What a sample's lobe needs of its directions, whatever the parameters.
+  struct Geometry {
+    double nl, nv, cos2, tan2, lh, theta_l, theta_v, schlick;
+  };
+
+  // Channel c's lobe per unit of specular: D·G·F/(π n·l n·v).
   template <class T>
-  static Rgb<T> lobe(const T* p, const Vec3& l, const Vec3& v) {
+  static T lobe_per_specular(const T* p, int c, const Geometry& g) {
     using std::exp;
     using std::log;
+    const T t = p[kAlpha + c] + g.tan2 / p[kAlpha + c];
+    const T p_log_t = p[kP + c] * log(t);  // log of t^p
+    if (!(p_log_t > T(kLogEpsilon))) return T(0.0);
+    // exp(−t)/t^p as one exp: a third of the lobe's transcendental calls, the fit's hot spot.
+    const T d = p[kK + c] * exp(-t - p_log_t) / (kPi * g.cos2 * g.cos2);
+    const T shadowed = shadowing(p, c, g.theta_l) * shadowing(p, c, g.theta_v);
+    T fresnel = p[kF0 + c] + (1.0 - p[kF0 + c]) * g.schlick - p[kF1 + c] * g.lh;
+    if (!(fresnel > T(0.0))) fresnel = T(0.0);
+    return d * shadowed * fresnel / (kPi * g.nl * g.nv);
+  }
+
+  // Whether channels a and b have the same shape values (all but specular), derivatives included.
+  template <class T>
+  static bool same_shape(const T* p, int a, int b) {
+    for (int offset = kAlpha; offset < kNumValues; offset += 3)
+      if (!identical(p[offset + a], p[offset + b])) return false;
+    return true;
+  }
+
+  template <class T>
+  static Rgb<T> lobe(const T* p, const Vec3& l, const Vec3& v) {
     Rgb<T> f = Rgb<T>::Zero();
-    const double nl = l.z(), nv = v.z();
     const Vec3 h = half_vector(l, v);
     const double nh = h.z(), lh = l.dot(h);
     if (nh <= 1e-6 || lh <= 0.0) return f;
-    const double cos2 = nh * nh, tan2 = (1.0 - cos2) / cos2;
-    const double theta_l = std::acos(std::min(nl, 1.0)), theta_v = std::acos(std::min(nv, 1.0));
-    const double schlick = std::pow(1.0 - lh, 5.0);
+    Geometry g;
+    g.nl = l.z();
+    g.nv = v.z();
+    g.cos2 = nh * nh;
+    g.tan2 = (1.0 - g.cos2) / g.cos2;
+    g.lh = lh;
+    g.theta_l = std::acos(std::min(g.nl, 1.0));
+    g.theta_v = std::acos(std::min(g.nv, 1.0));
+    g.schlick = schlick_weight(lh);
+    // The grid and the coordinate search set every shape colour alike in the three channels, and
+    // they evaluate sgd thousands of times on the subsample (most of its fit): a channel shaped
+    // like the one before reuses its lobe, a third of the cost there.
+    T per_specular = lobe_per_specular(p, 0, g);
     for (int c = 0; c < 3; ++c) {
-      const T t = p[kAlpha + c] + tan2 / p[kAlpha + c];
-      const T p_log_t = p[kP + c] * log(t);  // log of t^p
-      if (!(p_log_t > T(kLogEpsilon))) continue;
-      // exp(−t)/t^p as one exp: a third of the lobe's transcendental calls, the fit's hot spot.
-      const T d = p[kK + c] * exp(-t - p_log_t) / (kPi * cos2 * cos2);
-      const T g = shadowing(p, c, theta_l) * shadowing(p, c, theta_v);
-      T fresnel = p[kF0 + c] + (1.0 - p[kF0 + c]) * schlick - p[kF1 + c] * lh;
-      if (!(fresnel > T(0.0))) fresnel = T(0.0);
-      f[c] = p[kSpecular + c] * d * g * fresnel / (kPi * nl * nv);
+      if (c > 0 && !same_shape(p, c, c - 1)) per_specular = lobe_per_specular(p, c, g);
+      f[c] = p[kSpecular + c] * per_specular;
     }
     return f;
   }
