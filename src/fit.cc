@@ -127,10 +127,15 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
   // Every candidate met on the way, with its objective on all samples (½Σ, as Ceres counts).
   // Stages work on subsets whose optimum can be worse on all samples than where they started;
   // choosing on all samples discards such a stage, and keeping the contained models' optima
-  // among the candidates means the result is never worse than theirs.
+  // among the candidates means the result is never worse than theirs. A candidate at the same
+  // optimum as one kept already (same_optimum) is not costed again.
   std::vector<Refinement> candidates;
+  const std::vector<ValueSlot> slots = value_slots(model);
   auto keep = [&](Refinement r) {
     if (!r.usable) return;
+    if (std::any_of(candidates.begin(), candidates.end(),
+                    [&](const Refinement& c) { return same_optimum(slots, c.values, r.values); }))
+      return;
     r.cost = full_cost(r.values);
     if (std::isfinite(r.cost)) candidates.push_back(std::move(r));
   };

@@ -37,6 +37,18 @@ bool at_bound(const ParamSpec& p, double value) {
   return at_lower || at_upper_bound(p, value);
 }
 
+bool same_optimum(const std::vector<ValueSlot>& slots, const std::vector<double>& a, const std::vector<double>& b) {
+  constexpr double kSameFraction = 1e-5;
+  for (size_t i = 0; i < slots.size(); ++i) {
+    const ParamSpec& p = *slots[i].param;
+    const bool by_ratio = p.spacing == Spacing::Log && a[i] > 0.0 && b[i] > 0.0 && p.lower > 0.0;
+    const double distance = by_ratio ? std::abs(std::log(a[i] / b[i])) / std::log(p.upper / p.lower)
+                                     : std::abs(a[i] - b[i]) / (p.upper - p.lower);
+    if (!(distance <= kSameFraction)) return false;
+  }
+  return true;
+}
+
 void judge(const Model& model, const FitResult* baseline, double zero_error, Metric metric, bool isotropic_data,
            FitResult& r) {
   constexpr double kPoorRatio = 1.05, kPoorUnexplained = 0.85, kPoorTypical = 1.0, kPoorClampedUnexplained = 0.25;

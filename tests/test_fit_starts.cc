@@ -12,6 +12,7 @@ namespace brdffit {
 namespace {
 
 using fitting::coordinate_search;
+using fitting::same_optimum;
 using fitting::solved_cost;
 using fitting::SolvedCosts;
 using fitting::Start;
@@ -87,6 +88,32 @@ TEST(CoordinateSearch, APointMetBeforeIsNotEvaluatedAgainAndGivesTheSameResult) 
   const Start fresh = coordinate_search(sgd, start, data.samples, options.metric, kAllChannels, options, nothing_known);
   EXPECT_GT(sgd.evaluations, 0);
   EXPECT_EQ(fresh.values, first.values);
+}
+
+// Candidates within 1e-5 of every parameter's range are one optimum: ggx's roughness is spaced by
+// ratio over [0.01, 1], albedo and f0 linearly over [0, 1].
+TEST(SameOptimum, EveryValueWithinAHundredThousandthOfItsRange) {
+  const Model& ggx = *find_model("ggx");
+  const std::vector<fitting::ValueSlot> slots = fitting::value_slots(ggx);
+  const ParamSpec& roughness = *ggx.find_parameter("roughness");
+  ASSERT_EQ(roughness.spacing, Spacing::Log);
+  const std::vector<double> fitted = parameter_values(ggx, {"albedo=0.3,0.4,0.5", "roughness=0.2", "f0=0.04"});
+  const int r = ggx.offset_of("roughness"), f0 = ggx.offset_of("f0"), green = ggx.offset_of("albedo") + 1;
+  const double log_range = std::log(roughness.upper / roughness.lower);
+  auto moved = [&](int i, double to) {
+    std::vector<double> values = fitted;
+    values[i] = to;
+    return values;
+  };
+  EXPECT_TRUE(same_optimum(slots, fitted, fitted));
+  EXPECT_TRUE(same_optimum(slots, fitted, moved(green, 0.4 + 0.9e-5)));
+  EXPECT_FALSE(same_optimum(slots, fitted, moved(green, 0.4 + 1.1e-5)));
+  EXPECT_TRUE(same_optimum(slots, fitted, moved(f0, 0.04 - 0.9e-5)));
+  EXPECT_FALSE(same_optimum(slots, fitted, moved(f0, 0.04 - 1.1e-5)));
+  // By ratio, within e^(±1e-5·ln 100) of the roughness: near its top that is more than 1e-5 of the
+  // range linearly, near its bottom far less.
+  EXPECT_TRUE(same_optimum(slots, moved(r, 0.9), moved(r, 0.9 * std::exp(0.9e-5 * log_range))));
+  EXPECT_FALSE(same_optimum(slots, moved(r, 0.02), moved(r, 0.02 * std::exp(1.1e-5 * log_range))));
 }
 
 }  // namespace

@@ -180,6 +180,12 @@ class LeastSquares {
 bool at_upper_bound(const ParamSpec& p, double value);
 bool at_bound(const ParamSpec& p, double value);
 
+// Whether two fitted values are the same optimum: every value within 1e-5 of its parameter's range,
+// measured as the grid spaces it (log-spaced parameters by ratio). Refinements from several starts
+// often end there (openpbr's five continued starts on red-fabric, 1e-8 to 1e-5 apart, their costs
+// on all samples 5e-7 apart), and the fitter costs such a candidate on all samples only once.
+bool same_optimum(const std::vector<ValueSlot>& slots, const std::vector<double>& a, const std::vector<double>& b);
+
 // The verdict and the warning lines of a fitted result (see Verdict in fit.h). A fit is poor
 // when any of these holds:
 //   - its error in any judged metric (kJudgedMetrics: cosine, log, relative and l2, whichever was
