@@ -99,7 +99,7 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
     clock.lap("grid");
     // Searched from, besides the grid points themselves: the search does not always end in the
     // better basin.
-    if (many_shape_parameters(model)) {
+    if (shape_mostly_in_colours(model)) {
       SolvedCosts known(model);
       for (size_t i = 0, n = starts.size(); i < n; ++i)
         starts.push_back(coordinate_search(model, starts[i], small, options.metric, channels, options, known));

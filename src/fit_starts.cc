@@ -103,10 +103,11 @@ bool has_non_linear_colour(const Model& model) {
   return std::any_of(params.begin(), params.end(), [](const ParamSpec& p) { return !p.linear && p.channels > 1; });
 }
 
-// Where the grid is a Halton design rather than a lattice (see grid_starts).
-bool many_shape_parameters(const Model& model) {
-  const auto& params = model.parameters();
-  return std::count_if(params.begin(), params.end(), [](const ParamSpec& p) { return !p.linear; }) > 5;
+bool shape_mostly_in_colours(const Model& model) {
+  int scalars = 0, colours = 0;
+  for (const ParamSpec& p : model.parameters())
+    if (!p.linear) ++(p.channels == 1 ? scalars : colours);
+  return scalars + colours > 5 && colours > scalars;
 }
 
 SolvedCosts::SolvedCosts(const Model& model) {
