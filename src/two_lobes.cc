@@ -1,5 +1,6 @@
 #include "brdffit/two_lobes.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <iterator>
@@ -98,6 +99,8 @@ class TwoLobes final : public Model, public BatchCostSource {
                          Role::SpecularColour, /*linear=*/true});
     }
     declare_nestings(switching_scale(first), second_scale);
+    values_ = flattened_size(params_);
+    for (int k = 0; k < 2; ++k) lobe_values_[k] = lobes_[k]->num_values();
   }
 
   const std::string& name() const override { return name_; }
@@ -119,7 +122,7 @@ class TwoLobes final : public Model, public BatchCostSource {
   }
 
   Rgb<double> shade_with_jacobian(const double* values, const Vec3& l, const Vec3& v, double* jacobian) const override {
-    const int n = num_values();
+    const int n = values_;
     std::fill_n(jacobian, 3 * n, 0.0);
     if (l.z() <= 0.0) return Rgb<double>::Zero();
     for (int c = 0; c < 3; ++c) jacobian[c * n + c] = kInvPi * l.z();  // albedo occupies values 0..2
@@ -167,15 +170,16 @@ class TwoLobes final : public Model, public BatchCostSource {
 
   // Component k's values taken from the composite's, with its albedo at 0 (the lobe alone).
   Values component_values(int k, const double* values) const {
-    Values p{};
-    for (int i = 3; i < lobes_[k]->num_values(); ++i) p[i] = values[composite_index(k, i)];
+    Values p;  // only the values the component reads are set: this runs per sample
+    std::fill_n(p.begin(), 3, 0.0);
+    std::copy_n(values + composite_index(k, 3), lobe_values_[k] - 3, p.begin() + 3);
     return p;
   }
 
   // Adds scale_c · (component jacobian) to the composite's, for component k's values other than
   // albedo and, for the weighted lobe, its linear ones (the composite's own values there).
   void add_jacobian(int k, const Jacobian& component, const Rgb<double>& scale, double* jacobian) const {
-    const int n = num_values(), m = lobes_[k]->num_values();
+    const int n = values_, m = lobe_values_[k];
     for (int c = 0; c < 3; ++c)
       for (int i = 3; i < m; ++i)
         if (!(k == 1 && is_scaled_linear(i)))
@@ -208,7 +212,7 @@ class TwoLobes final : public Model, public BatchCostSource {
       if (jacobian) add_jacobian(1, component_jacobian, Rgb<double>::Ones(), jacobian);
       return sum;
     }
-    const int n = num_values(), m = lobes_[1]->num_values();
+    const int n = values_, m = lobe_values_[1];
     for (const auto& [from, to] : scaled_linear_) std::fill_n(p.begin() + from, 3, 0.0);
     const Rgb<double> w = colour_of(values + weight_offset_);
     const Rgb<double> base = eval(*lobes_[1], p.data(), jacobian ? base_jacobian.data() : nullptr);
@@ -270,6 +274,10 @@ class TwoLobes final : public Model, public BatchCostSource {
   std::vector<ParamSpec> params_;
   std::vector<Nesting> nestings_;
   int num_flattened_ = 3;  // albedo's
+  // num_values() of the composite and of its lobes, which the evaluations per sample need (Model
+  // counts them over the parameters at each call).
+  int values_ = 0;
+  std::array<int, 2> lobe_values_{};
   bool weighted_ = false;
   int weight_offset_ = -1;
 };
