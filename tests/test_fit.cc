@@ -338,6 +338,29 @@ TEST(Fit, UnidentifiableParameterIsFlaggedNotGivenANumber) {
   }
 }
 
+// principled's sheenTint (held at 0.5 until issue 23) is fitted: with a sheen over a saturated base
+// colour the data determine it, and with no sheen they say nothing about it, which the fit says.
+TEST(Fit, PrincipledSheenTintIsRecoveredWithASheenAndFlaggedWithout) {
+  const Model& principled = *find_model("principled");
+  for (const std::string sheen : {"0.8", "0"}) {
+    SCOPED_TRACE("sheen " + sheen);
+    const std::vector<double> truth = parameter_values(
+        principled, {"baseColor=0.7,0.3,0.1", "roughness=0.4", "sheen=" + sheen, "sheenTint=0.2", "clearcoat=0"});
+    const SampleSet data = test::model_table(principled, truth, 8000, 0.002, 3, 0.05);
+    const FitResult fit = fit_model(principled, data, FitOptions{});
+    ASSERT_TRUE(fit.ok) << fit.error;
+    const auto tint = std::find_if(fit.parameters.begin(), fit.parameters.end(),
+                                   [](const ParameterEstimate& p) { return p.name == "sheenTint"; });
+    ASSERT_NE(tint, fit.parameters.end());
+    if (sheen == "0") {
+      EXPECT_FALSE(tint->identifiable) << tint->value[0];
+    } else {
+      EXPECT_TRUE(tint->identifiable);
+      EXPECT_NEAR(tint->value[0], 0.2, 0.02);
+    }
+  }
+}
+
 TEST(Fit, LafortuneAxisIsDeterminedOnlyUpToScale) {
   // Ngan's normalisation divides the lobe by max(|cxy|,|cz|)^n, so (cxy, cz) and any multiple
   // give the same BRDF: the fit recovers their ratio and flags each as not identifiable.

@@ -482,14 +482,14 @@ TEST(HandValues, GltfSheen) {
 double mix(double a, double b, double t) { return a + (b - a) * t; }
 
 TEST(HandValues, PrincipledAsDisneyBrdf) {
-  // wdas/brdf src/brdfs/disney.brdf, BRDF() with anisotropic = 0, sheenTint = 0.5 (held) and linear
+  // wdas/brdf src/brdfs/disney.brdf, BRDF() with anisotropic = 0 (held) and linear
   // colour (no mon2lin):
   //   ((1/π) mix(Fd, ss, subsurface) C + Fsheen)(1 - metallic) + Gs Fs Ds + ¼ clearcoat Gr Fr Dr
   const double metallic = 0.23, subsurface = 0.41, specular = 0.57, roughness = 0.46, specular_tint = 0.33,
-               sheen = 0.71, clearcoat = 0.64, clearcoat_gloss = 0.38, sheen_tint = 0.5;
+               sheen = 0.71, clearcoat = 0.64, clearcoat_gloss = 0.38, sheen_tint = 0.27;
   expect_brdf("principled",
               {"baseColor=0.62,0.35,0.17", "metallic=0.23", "subsurface=0.41", "specular=0.57", "roughness=0.46",
-               "specularTint=0.33", "sheen=0.71", "clearcoat=0.64", "clearcoatGloss=0.38"},
+               "specularTint=0.33", "sheen=0.71", "sheenTint=0.27", "clearcoat=0.64", "clearcoatGloss=0.38"},
               [&](const Pair& p, int c) {
                 const double lum = 0.3 * kBase[0] + 0.6 * kBase[1] + 0.1 * kBase[2];
                 const double tint = kBase[c] / lum;
@@ -520,7 +520,7 @@ TEST(HandValues, PrincipledAsDisneyBrdf) {
 
 TEST(HandValues, MitsubaPrincipledAsThePlugin) {
   // mitsuba3 src/bsdfs/principled.cpp eval() and principledhelpers.h, opaque (spec_trans = 0),
-  // anisotropic = 0, sheen_tint = 0.5; eval returns f |cosθo| with wi = v, wo = l:
+  // anisotropic = 0; eval returns f |cosθo| with wi = v, wo = l:
   //   diffuse (1 - m) C/π lerp(f_diff + f_retro, f_ss, flatness), Fo, Fi Schlick weights of n·l, n·v,
   //     f_diff = (1 - Fi/2)(1 - Fo/2), Rr = 2 roughness (h·wo)², f_retro = Rr (Fo + Fi + Fo Fi (Rr - 1)),
   //     f_ss = 1.25 (lerp(1, Rr/2, Fo) lerp(1, Rr/2, Fi) (1/(n·l + n·v) - 0.5) + 0.5);
@@ -530,10 +530,10 @@ TEST(HandValues, MitsubaPrincipledAsThePlugin) {
   //     η = 2/(1 - √(0.08 specular)) - 1;
   //   clearcoat ¼ clearcoat Schlick(0.04) GTR1 G_cc(α = 0.25), no 1/(4 n·l n·v).
   const double metallic = 0.23, specular = 0.57, roughness = 0.46, spec_tint = 0.33, sheen = 0.71, flatness = 0.41,
-               clearcoat = 0.64, clearcoat_gloss = 0.38, sheen_tint = 0.5;
+               clearcoat = 0.64, clearcoat_gloss = 0.38, sheen_tint = 0.27;
   expect_brdf("mitsuba-principled",
               {"base_color=0.62,0.35,0.17", "metallic=0.23", "specular=0.57", "roughness=0.46", "spec_tint=0.33",
-               "sheen=0.71", "flatness=0.41", "clearcoat=0.64", "clearcoat_gloss=0.38"},
+               "sheen=0.71", "sheen_tint=0.27", "flatness=0.41", "clearcoat=0.64", "clearcoat_gloss=0.38"},
               [&](const Pair& p, int c) {
                 const double lum = 0.212671 * kBase[0] + 0.715160 * kBase[1] + 0.072169 * kBase[2];
                 const double tint = kBase[c] / lum;

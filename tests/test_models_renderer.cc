@@ -239,11 +239,11 @@ double mitsuba_eval(const MitsubaParams& p, const Vec3& wi, const Vec3& wo, int 
 }
 
 TEST(MitsubaPrincipled, HandValuesAsThePluginEvaluatesThem) {
-  // Every parameter away from 0, 1 and its bounds (sheen_tint: the model holds it at 0.5).
-  const MitsubaParams p{{0.7, 0.4, 0.2}, 0.35, 0.6, 0.45, 0.3, 0.4, 0.5, 0.25, 0.6, 0.7};
-  const std::vector<std::string> assignments = {"base_color=0.7,0.4,0.2", "metallic=0.35", "specular=0.6",
-                                                "roughness=0.45",         "spec_tint=0.3", "sheen=0.4",
-                                                "flatness=0.25",          "clearcoat=0.6", "clearcoat_gloss=0.7"};
+  // Every parameter away from 0, 1, its bounds and its default.
+  const MitsubaParams p{{0.7, 0.4, 0.2}, 0.35, 0.6, 0.45, 0.3, 0.4, 0.65, 0.25, 0.6, 0.7};
+  const std::vector<std::string> assignments = {
+      "base_color=0.7,0.4,0.2", "metallic=0.35", "specular=0.6",  "roughness=0.45",     "spec_tint=0.3", "sheen=0.4",
+      "sheen_tint=0.65",        "flatness=0.25", "clearcoat=0.6", "clearcoat_gloss=0.7"};
   const double phi = 110 * kPi / 180;
   const Vec3 l = k60X, v(0.5 * std::cos(phi), 0.5 * std::sin(phi), kCos30);  // 60° in x-z, 30° at 110°
   const Rgb<double> s = shade("mitsuba-principled", assignments, l, v);

@@ -8,7 +8,7 @@
 //                           sphere mesh so that any viewer shows it;
 //   OpenPBR (.mtlx)         the `openpbr` fit as a MaterialX document with an open_pbr_surface;
 //   Mitsuba 3 (.xml)        the `mitsuba-principled` fit as Mitsuba's `principled` BSDF (the model is
-//                           what that plugin evaluates; anisotropic 0 and sheen_tint 0.5 as held).
+//                           what that plugin evaluates; anisotropic 0 as held).
 // Any other renderer model's fit, or a ggx fit, can be converted instead: the materials share a
 // metallic-roughness core (base colour, metallic, roughness, and the dielectric's IOR, specular
 // weight and tint), of which the target keeps all it can hold (gltf-specular all; openpbr the IOR

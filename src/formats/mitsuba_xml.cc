@@ -22,7 +22,7 @@ std::string mitsuba_document(const Material& material, const std::string& commen
   const std::string id = xml_name(material.name);
   std::string xml = "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n";
   xml += "<!-- " + xml_comment_text(comment) +
-         "\n     anisotropic 0 and sheen_tint 0.5 as brdffit's mitsuba-principled model holds them."
+         "\n     anisotropic 0 as brdffit's mitsuba-principled model holds it."
          "\n     Include this file in a scene and refer to the material as <ref id=\"" +
          id + "\"/>. -->\n";
   xml += "<scene version=\"3.0.0\">\n";
@@ -36,7 +36,6 @@ std::string mitsuba_document(const Material& material, const std::string& commen
       xml += fmt::format("        <float name=\"{}\" value=\"{:.9g}\"/>\n", p.name, v[offset]);
     offset += p.channels;
   }
-  xml += "        <float name=\"sheen_tint\" value=\"0.5\"/>\n";
   xml += "        <float name=\"anisotropic\" value=\"0\"/>\n";
   xml += "    </bsdf>\n</scene>\n";
   return xml;
@@ -56,11 +55,10 @@ std::vector<Material> read_mitsuba(const std::string& path, std::vector<std::str
     Material material{id.empty() ? fmt::format("bsdf {}", materials.size()) : id, model.name(), model.default_values()};
     // Mitsuba's defaults where a parameter is absent.
     const std::map<std::string, std::vector<double>> defaults = {
-        {"base_color", {0.5}}, {"metallic", {0.0}},  {"roughness", {0.5}},
-        {"specular", {0.5}},   {"spec_tint", {0.0}}, {"flatness", {0.0}},
-        {"sheen", {0.0}},      {"clearcoat", {0.0}}, {"clearcoat_gloss", {0.0}}};
+        {"base_color", {0.5}}, {"metallic", {0.0}},       {"roughness", {0.5}}, {"specular", {0.5}},
+        {"spec_tint", {0.0}},  {"flatness", {0.0}},       {"sheen", {0.0}},     {"sheen_tint", {0.0}},
+        {"clearcoat", {0.0}},  {"clearcoat_gloss", {0.0}}};
     for (const auto& [name, value] : defaults) set_parameter(model, material, name, value, path, warnings);
-    double sheen_tint = 0.0;
     std::optional<double> eta;
     bool has_specular = false;
     for (const int k : elements[i].children) {
@@ -76,8 +74,6 @@ std::vector<Material> read_mitsuba(const std::string& path, std::vector<std::str
         set_parameter(model, material, name, value, path, warnings);
       else if (name == "eta")
         eta = value[0];
-      else if (name == "sheen_tint")
-        sheen_tint = value[0];
       else if (value[0] != 0.0)
         warnings.push_back(fmt::format("{}: {} = {} of '{}' is not in brdffit's mitsuba-principled model (held at 0)",
                                        path, name, value[0], material.name));
@@ -97,9 +93,6 @@ std::vector<Material> read_mitsuba(const std::string& path, std::vector<std::str
             path, *eta, material.name));
       set_parameter(model, material, "specular", {r * r / 0.08}, path, warnings);
     }
-    if (sheen_tint != 0.5 && material.values[model.offset_of("sheen")] > 0.0)
-      warnings.push_back(fmt::format("{}: sheen_tint {} of '{}' is held at 0.5 by the mitsuba-principled model", path,
-                                     sheen_tint, material.name));
     materials.push_back(std::move(material));
   }
   return materials;

@@ -31,10 +31,10 @@
 //
 // The plugin's f is reciprocal: every term is symmetric in l and v (c = v·h = l·h).
 //
-// Fitted: base_color, metallic, specular, roughness, spec_tint, sheen, flatness, clearcoat,
-// clearcoat_gloss. Held, and written into the exported file: anisotropic = 0 (the local frame's
-// tangent of a measured isotropic table is arbitrary) and sheen_tint = 0.5 (as the principled
-// model holds it: sheen's tint is not separable from base_color's at the noise of measurements).
+// Fitted: base_color, metallic, specular, roughness, spec_tint, sheen, sheen_tint, flatness,
+// clearcoat, clearcoat_gloss (sheen_tint flagged not identifiable where there is no sheen). Held,
+// and written into the exported file: anisotropic = 0 (the local frame's tangent of a measured
+// isotropic table is arbitrary).
 // Bounds: roughness ≥ 0.032 so that α = roughness² stays above the plugin's 0.001 clamp (where the
 // derivative vanishes); specular ≥ 0.001, the floor the plugin itself applies when transmission is
 // on: at specular = 0 exactly, η = 1, F_dielectric = 0 and the plugin skips the whole specular
@@ -61,12 +61,13 @@ struct MitsubaPrincipled {
     kRoughness,
     kSpecTint,
     kSheen,
+    kSheenTint,
     kFlatness,
     kClearcoat,
     kClearcoatGloss,
     kNumValues
   };
-  static constexpr double kAnisotropic = 0.0, kSheenTint = 0.5;                  // held (see above)
+  static constexpr double kAnisotropic = 0.0;                                    // held (see above)
   static constexpr double kLumR = 0.212671, kLumG = 0.715160, kLumB = 0.072169;  // Rec. 709, as the plugin
 
   static std::vector<ParamSpec> parameters() {
@@ -79,6 +80,7 @@ struct MitsubaPrincipled {
          false, false, Spacing::Log},
         {"spec_tint", 1, 0.0, 1.0, 0.0, "share of the dielectric Fresnel tinted towards the base colour (Schlick)"},
         {"sheen", 1, 0.0, 1.0, 0.0, "grazing sheen lobe (cloth)"},
+        {"sheen_tint", 1, 0.0, 1.0, 0.5, "share of the sheen tinted towards the base colour"},
         {"flatness", 1, 0.0, 1.0, 0.0, "blend of the diffuse towards the Hanrahan-Krueger-like fake subsurface"},
         {"clearcoat", 1, 0.0, 1.0, 0.0, "strength of the GTR1 clearcoat lobe"},
         {"clearcoat_gloss", 1, 0.0, 1.0, 0.0, "clearcoat glossiness: GTR1 a = mix(0.1, 0.001, clearcoat_gloss)"}};
@@ -149,7 +151,7 @@ struct MitsubaPrincipled {
       const T tinted_fresnel = tinted_r0 + (1.0 - tinted_r0) * fc;
       const T fresnel = dielectric * (1.0 - p[kSpecTint]) * f_dielectric + metallic * metal_fresnel +
                         dielectric * p[kSpecTint] * tinted_fresnel;
-      const T sheen = p[kSheen] * dielectric * fc * (1.0 + (tint - 1.0) * kSheenTint);
+      const T sheen = p[kSheen] * dielectric * fc * (1.0 + (tint - 1.0) * p[kSheenTint]);
       f[ch] = diffuse_shape * base[ch] + sheen + fresnel * spec_shape + clearcoat;
     }
     return f;
@@ -177,6 +179,7 @@ struct MitsubaPrincipled {
           {"roughness", "roughness"},
           {"spec_tint", "specularTint"},
           {"sheen", "sheen"},
+          {"sheen_tint", "sheenTint"},
           {"flatness", "subsurface"},
           {"clearcoat", "clearcoat"},
           {"clearcoat_gloss", "clearcoatGloss"}},

@@ -17,12 +17,12 @@
 // C = baseColor is linear RGB here: BRDF Explorer's shader applies mon2lin (x^2.2) to its colour
 // pickers, a display convention; renderers (Mitsuba 3's `principled`, Blender's) take linear colour.
 //
-// Fitted: baseColor, metallic, subsurface, specular, roughness, specularTint, sheen, clearcoat,
-// clearcoatGloss. Held at the published defaults: anisotropic = 0 (the local frame's tangent of
-// a measured isotropic table is arbitrary, and the shared tables are isotropic) and sheenTint =
-// 0.5 (sheen is a small grazing term; its tint is not separable from baseColor's at the noise of
-// measurements). roughness is bounded below by 0.032 so that α = roughness² stays above the
-// shader's 0.001 clamp, where the derivative would vanish.
+// Fitted: baseColor, metallic, subsurface, specular, roughness, specularTint, sheen, sheenTint,
+// clearcoat, clearcoatGloss. sheenTint only matters where sheen does: with no sheen the fit flags
+// it not identifiable rather than report its start (0.5, the published default). Held at the
+// published default: anisotropic = 0 (the local frame's tangent of a measured isotropic table is
+// arbitrary, and the shared tables are isotropic). roughness is bounded below by 0.032 so that
+// α = roughness² stays above the shader's 0.001 clamp, where the derivative would vanish.
 //
 // Nesting: none exact (even with specular 0 the Fresnel F_H keeps a grazing specular lobe, and
 // F_d is not Lambert's); Lambert's albedo as baseColor with specular 0 is a start only.
@@ -46,11 +46,12 @@ struct Principled {
     kRoughness,
     kSpecularTint,
     kSheen,
+    kSheenTint,
     kClearcoat,
     kClearcoatGloss,
     kNumValues
   };
-  static constexpr double kAnisotropic = 0.0, kSheenTint = 0.5;  // held (see above)
+  static constexpr double kAnisotropic = 0.0;  // held (see above)
 
   static std::vector<ParamSpec> parameters() {
     return {
@@ -62,6 +63,7 @@ struct Principled {
          Role::Roughness, false, false, Spacing::Log},
         {"specularTint", 1, 0.0, 1.0, 0.0, "tints the dielectric F0 towards the base colour's hue"},
         {"sheen", 1, 0.0, 1.0, 0.0, "grazing retro-reflective sheen (cloth)"},
+        {"sheenTint", 1, 0.0, 1.0, 0.5, "tints the sheen towards the base colour's hue"},
         {"clearcoat", 1, 0.0, 1.0, 0.0, "strength of the second, fixed-roughness GTR1 specular lobe"},
         {"clearcoatGloss", 1, 0.0, 1.0, 1.0, "clearcoat glossiness: GTR1 a = mix(0.1, 0.001, clearcoatGloss)"}};
   }
@@ -116,7 +118,7 @@ struct Principled {
       const T spec0_dielectric = p[kSpecular] * 0.08 * (1.0 + (tint - 1.0) * p[kSpecularTint]);
       const T spec0 = spec0_dielectric + (base[c] - spec0_dielectric) * metallic;
       const T fs = spec0 + (1.0 - spec0) * fh;
-      const T sheen = fh * p[kSheen] * (1.0 + (tint - 1.0) * kSheenTint);
+      const T sheen = fh * p[kSheen] * (1.0 + (tint - 1.0) * p[kSheenTint]);
       f[c] = (diffuse_shape * base[c] + sheen) * (1.0 - metallic) + gs * fs * ds + clearcoat;
     }
     return f;
