@@ -174,8 +174,8 @@ struct SgdLobe : Lobe {
     g.theta_v = std::acos(std::min(g.nv, 1.0));
     g.schlick = schlick_weight(lh);
     // The grid and the coordinate search set every shape colour alike in the three channels, and
-    // they evaluate sgd thousands of times on the subsample (most of its fit): a channel shaped
-    // like the one before reuses its lobe, a third of the cost there.
+    // they evaluate sgd thousands of times on the subsample: a channel shaped like the one before
+    // reuses its lobe: one lobe evaluation per sample there instead of three.
     T per_specular = lobe_per_specular(p, 0, g);
     for (int c = 0; c < 3; ++c) {
       if (c > 0 && !same_shape(p, c, c - 1)) per_specular = lobe_per_specular(p, c, g);
