@@ -107,6 +107,12 @@ inline void compress(const Eigen::MatrixXd& jtj, const Eigen::VectorXd& jtr, dou
     yy += residuals[k] * residuals[k];
   }
   residuals[F] = std::sqrt(std::max(rr - yy, 0.0));
+  // A value these samples do not move at all (its column of J is zero: sheenTint where sheen is 0)
+  // gets an exactly zero column of R, as ‖R e_k‖² = (JᵀJ)_kk = 0 says. The eigen-decomposition
+  // would otherwise leave round-off there wherever another value is almost undetermined too (its
+  // eigenvector mixes with e_k), enough for the covariance to call the value determined.
+  for (int k = 0; k < F; ++k)
+    if (!(jtj(k, k) > 0.0)) jac.col(k).setZero();
 }
 
 }  // namespace detail
