@@ -488,13 +488,41 @@ FitResult in_isotropic_form(const Model& model, const Nesting& form, const Model
   return r;
 }
 
-FitResult fit_held(const HeldModel& held, const SampleSet& data, const FitOptions& options) {
+// `nested`: the contained models' optima in the full model's values.
+FitResult fit_held(const HeldModel& held, const SampleSet& data, const FitOptions& options,
+                   const std::vector<ChannelVectors>& nested = {}) {
   FitOptions own = options;
   const int full_count = held.num_values() + held.held_count();
   if (!own.initial_values.empty() && static_cast<int>(own.initial_values.size()) != full_count)
     fail("{}: {} initial values given, the model has {}", held.name(), own.initial_values.size(), full_count);
   if (!own.initial_values.empty()) own.initial_values = held.free_values(own.initial_values);
-  return held.full_result(fit_or_failure(held, data, own, {}));
+  std::vector<ChannelVectors> free_nested;
+  for (const ChannelVectors& start : nested) {
+    ChannelVectors free;
+    for (int c = 0; c < 3; ++c) free[c] = held.free_values(start[c]);
+    free_nested.push_back(std::move(free));
+  }
+  return held.full_result(fit_or_failure(held, data, own, free_nested));
+}
+
+// On isotropic data, a model with neither an isotropic form nor held parameters of the user's
+// is fitted with its lobe held isotropic (isotropic_holds); the user's held parameters get
+// those added. An isotropic form is fitted in the model's place instead (in_isotropic_form).
+std::vector<std::pair<std::string, double>> holds_on(const SampleSet& data, const Model& model,
+                                                     std::vector<std::pair<std::string, double>> holds) {
+  if (!data.isotropic) return holds;
+  for (const auto& hold : isotropic_holds(model))
+    if (std::none_of(holds.begin(), holds.end(), [&](const auto& h) { return h.first == hold.first; }))
+      holds.push_back(hold);
+  return holds;
+}
+
+void note_isotropic_holds(const Model& model, FitResult& r) {
+  std::string held;
+  for (const auto& [name, value] : isotropic_holds(model))
+    held += fmt::format("{}{} = {:.4g}", held.empty() ? "" : ", ", name, value);
+  r.warnings.push_back(
+      fmt::format("isotropic data: {} was fitted with its lobe held isotropic ({})", model.name(), held));
 }
 
 }  // namespace
@@ -535,9 +563,16 @@ std::vector<FitResult> fit_models(const std::vector<const Model*>& models, const
     }
     const Nesting* form = data.isotropic ? isotropic_form(model) : nullptr;
     const auto form_fit = form ? fitted.find(form->inner) : fitted.end();
-    FitResult result = form_fit != fitted.end()
-                           ? in_isotropic_form(model, *form, *find_model(form->inner), form_fit->second, data)
-                           : fit_or_failure(model, data, own, nested);
+    const HeldModel isotropic(model, form ? std::vector<std::pair<std::string, double>>{} : holds_on(data, model, {}));
+    FitResult result;
+    if (form_fit != fitted.end()) {
+      result = in_isotropic_form(model, *form, *find_model(form->inner), form_fit->second, data);
+    } else if (isotropic.holds_any()) {
+      result = fit_held(isotropic, data, own, nested);
+      note_isotropic_holds(model, result);
+    } else {
+      result = fit_or_failure(model, data, own, nested);
+    }
     in_progress.erase(model.name());
     return fitted.emplace(model.name(), std::move(result)).first->second;
   };
@@ -549,8 +584,10 @@ std::vector<FitResult> fit_models(const std::vector<const Model*>& models, const
   for (const Model* model : models) {
     if (options.on_model_start) options.on_model_start(results.size(), models.size(), model->name());
     // Held parameters (FitOptions::fixed): the model of the others, fitted on its own.
-    const HeldModel held(*model, options.fixed);
+    const HeldModel held(*model, options.fixed.empty() ? options.fixed : holds_on(data, *model, options.fixed));
     FitResult r = held.holds_any() ? fit_held(held, data, options) : fit(*model);
+    if (held.holds_any() && !options.fixed.empty() && data.isotropic && !isotropic_holds(*model).empty())
+      note_isotropic_holds(*model, r);
     judge(*model, baseline, zero_error, options.metric, data.isotropic, r);
     results.push_back(std::move(r));
   }

@@ -93,6 +93,13 @@ void judge(const Model& model, const FitResult* baseline, double zero_error, Met
                       p.name));
       continue;
     }
+    if (spec && spec->role == Role::Anisotropy && isotropic_data) {
+      r.warnings.push_back(
+          fmt::format("{} = {} is held: the data are isotropic (the same at every azimuth), which "
+                      "only an isotropic lobe matches",
+                      p.name, format_value(p.value)));
+      continue;
+    }
     const bool clamped = spec && spec->linear && std::all_of(p.value.begin(), p.value.end(), [&](double v) {
                            return at_upper_bound(*spec, v);
                          });

@@ -63,10 +63,11 @@ std::vector<double> values_from_core(const Model& model, const Core& core) {
   };
   const Rgb<double> base = core.base_color.cwiseMax(0.0).cwiseMin(1.0),
                     tint = core.specular_color.cwiseMax(0.0).cwiseMin(1.0);
-  if (is_gltf_model(name)) {  // the core holds no coat or sheen: gltf+clearcoat's and gltf+sheen's layers off
+  if (is_gltf_model(name)) {  // the core holds no coat, sheen or stretch: the extensions' layers off
     set_colour(model, values, "baseColor", base);
     if (model.find_parameter("clearcoatFactor")) set_value(model, values, "clearcoatFactor", 0.0);
     if (model.find_parameter("sheenColorFactor")) set_colour(model, values, "sheenColorFactor", Rgb<double>::Zero());
+    if (model.find_parameter("anisotropyStrength")) set_value(model, values, "anisotropyStrength", 0.0);
     set_value(model, values, "metallic", clamp_to("metallic", core.metallic));
     set_value(model, values, "roughness", clamp_to("roughness", core.roughness));
     if (name == "gltf-specular") {
@@ -94,8 +95,8 @@ std::vector<double> values_from_core(const Model& model, const Core& core) {
 }  // namespace
 
 const std::vector<std::string>& gltf_models() {
-  static const std::vector<std::string> models = {"gltf", "gltf-specular", "gltf+clearcoat", "gltf+sheen",
-                                                  "gltf+clearcoat+sheen"};
+  static const std::vector<std::string> models = {"gltf",       "gltf-specular",        "gltf+clearcoat",
+                                                  "gltf+sheen", "gltf+clearcoat+sheen", "gltf+anisotropy"};
   return models;
 }
 bool is_gltf_model(const std::string& name) {

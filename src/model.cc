@@ -19,6 +19,7 @@ const char* role_name(Role role) {
     case Role::Exponent: return "exponent";
     case Role::Wrap: return "wrap";
     case Role::Orientation: return "orientation";
+    case Role::Anisotropy: return "anisotropy";
     case Role::Shape: return "shape";
   }
   return "shape";
@@ -106,16 +107,28 @@ std::vector<double> embed_values(const Model& outer, const Nesting& nesting, con
 }
 
 const Nesting* isotropic_form(const Model& model) {
-  auto is_orientation = [&](const std::string& name) {
+  auto is_anisotropic = [&](const std::string& name) {
     const ParamSpec* p = model.find_parameter(name);
-    return p && p->role == Role::Orientation;
+    return p && (p->role == Role::Orientation || p->role == Role::Anisotropy);
   };
   for (const Nesting& nesting : model.nestings()) {
     if (!nesting.exact || nesting.fixed.empty()) continue;
-    if (std::all_of(nesting.fixed.begin(), nesting.fixed.end(), [&](const auto& f) { return is_orientation(f.first); }))
+    if (std::all_of(nesting.fixed.begin(), nesting.fixed.end(), [&](const auto& f) { return is_anisotropic(f.first); }))
       return &nesting;
   }
   return nullptr;
+}
+
+std::vector<std::pair<std::string, double>> isotropic_holds(const Model& model) {
+  const std::vector<ParamSpec>& params = model.parameters();
+  if (std::none_of(params.begin(), params.end(), [](const ParamSpec& p) { return p.role == Role::Anisotropy; }))
+    return {};
+  std::vector<std::pair<std::string, double>> holds;
+  for (const ParamSpec& p : params) {
+    if (p.role == Role::Anisotropy) holds.emplace_back(p.name, 0.0);
+    if (p.role == Role::Orientation) holds.emplace_back(p.name, p.default_value);
+  }
+  return holds;
 }
 
 namespace {

@@ -19,6 +19,7 @@
 #include "brdffit/models/ggx.h"
 #include "brdffit/models/ggx_aniso.h"
 #include "brdffit/models/gltf.h"
+#include "brdffit/models/gltf_anisotropy.h"
 #include "brdffit/models/gltf_clearcoat.h"
 #include "brdffit/models/gltf_sheen.h"
 #include "brdffit/models/gltf_specular.h"
@@ -85,6 +86,7 @@ const std::vector<std::unique_ptr<Model>>& all_models() {
     add<models::GltfClearcoat>(list);
     add<models::GltfSheen>(list);
     add<models::GltfClearcoatSheen>(list);
+    add<models::GltfAnisotropy>(list);
     add<models::OpenPbr>(list);
     add<models::Principled>(list);
     add<models::MitsubaPrincipled>(list);

@@ -13,6 +13,7 @@
 
 #include "batch_test_util.h"
 #include "brdffit/error.h"
+#include "brdffit/material_convert.h"
 #include "brdffit/material_export.h"
 #include "brdffit/model.h"
 #include "brdffit/models/gltf.h"
@@ -81,6 +82,8 @@ const std::vector<std::string> kGltfClearcoatSheen = {"baseColor=0.8,0.5,0.25",
                                                       "clearcoatRoughnessFactor=0.15",
                                                       "sheenColorFactor=0.6,0.3,0.2",
                                                       "sheenRoughnessFactor=0.35"};
+const std::vector<std::string> kGltfAnisotropy = {"baseColor=0.8,0.5,0.25", "metallic=0.9", "roughness=0.35",
+                                                  "anisotropyStrength=0.6", "anisotropyRotation=1.25"};
 const std::vector<std::string> kOpenPbr = {"base_color=0.7,0.4,0.2",     "base_metalness=0.2",
                                            "base_diffuse_roughness=0.3", "specular_color=1,0.8,0.6",
                                            "specular_roughness=0.35",    "specular_ior=1.6"};
@@ -115,8 +118,8 @@ TEST(ExportCli, EachFormatWritesItsModelsFitUnchangedAndReadsBack) {
                             fit_of("gltf", {"baseColor=0.9,0.6,0.3", "metallic=0.85", "roughness=0.3"}),
                             fit_of("gltf-specular", kGltfSpecular), fit_of("gltf+clearcoat", kGltfClearcoat),
                             fit_of("gltf+sheen", kGltfSheen), fit_of("gltf+clearcoat+sheen", kGltfClearcoatSheen),
-                            fit_of("openpbr", kOpenPbr), fit_of("principled", kPrincipled),
-                            fit_of("mitsuba-principled", kMitsubaPrincipled)});
+                            fit_of("gltf+anisotropy", kGltfAnisotropy), fit_of("openpbr", kOpenPbr),
+                            fit_of("principled", kPrincipled), fit_of("mitsuba-principled", kMitsubaPrincipled)});
   // glTF: core by default (what most viewers read), the KHR extensions from the gltf-specular fit.
   expect_round_trip(doc, dir + "/gold.gltf", "gltf", {"baseColor=0.9,0.6,0.3", "metallic=0.85", "roughness=0.3"}, 0.0);
   const nlohmann::json core = nlohmann::json::parse(read_file(dir + "/gold.gltf"));
@@ -152,6 +155,17 @@ TEST(ExportCli, EachFormatWritesItsModelsFitUnchangedAndReadsBack) {
       nlohmann::json::parse(R"({"KHR_materials_clearcoat": {"clearcoatFactor": 0.7, "clearcoatRoughnessFactor": 0.15},
                                 "KHR_materials_sheen": {"sheenColorFactor": [0.6, 0.3, 0.2],
                                                         "sheenRoughnessFactor": 0.35}})"));
+  // The stretch: KHR_materials_anisotropy's strength and rotation, exactly, on a mesh with the TANGENT the
+  // extension requires, along the sphere's longitude (sphere.h's LocalFrame): (-sin φ, 0, -cos φ), w = 1.
+  expect_round_trip(doc, dir + "/gold-anisotropy.gltf", "gltf+anisotropy", kGltfAnisotropy, 0.0, " -m gltf+anisotropy");
+  const nlohmann::json stretched = nlohmann::json::parse(read_file(dir + "/gold-anisotropy.gltf"));
+  EXPECT_EQ(stretched["extensionsUsed"], nlohmann::json({"KHR_materials_anisotropy"}));
+  EXPECT_EQ(stretched["materials"][0]["extensions"],
+            nlohmann::json::parse(
+                R"({"KHR_materials_anisotropy": {"anisotropyStrength": 0.6, "anisotropyRotation": 1.25}})"));
+  EXPECT_EQ(stretched["meshes"][0]["primitives"][0]["attributes"]["TANGENT"], 3);
+  EXPECT_EQ(stretched["accessors"][3]["type"], "VEC4");
+  EXPECT_FALSE(core["meshes"][0]["primitives"][0]["attributes"].contains("TANGENT"));  // only where needed
   // OpenPBR and Mitsuba: nine significant digits in the files, so these short decimals come back exactly.
   expect_round_trip(doc, dir + "/gold.mtlx", "openpbr", kOpenPbr, 0.0);
   // Mitsuba: the mitsuba-principled fit (what the plugin evaluates), not Burley's principled one.
@@ -635,12 +649,12 @@ TEST(ExportTools, KhronosValidatorFindsNothing) {
   REQUIRE_TOOL(test::have_tool("node") && std::filesystem::exists(module_dir + "/gltf-validator"),
                "node with the npm package gltf-validator");
   const std::string dir = test::fresh_dir("export-validator");
-  const std::string doc =
-      test::write_document(dir + "/hostile.json", kHostileInput,
-                           {fit_of("gltf", {"baseColor=0.9,0.6,0.3", "metallic=1", "roughness=0.3"}),
-                            fit_of("gltf-specular", kGltfSpecular), fit_of("gltf+clearcoat", kGltfClearcoat),
-                            fit_of("gltf+sheen", kGltfSheen), fit_of("gltf+clearcoat+sheen", kGltfClearcoatSheen)});
-  for (const std::string model : {"gltf", "gltf-specular", "gltf+clearcoat", "gltf+sheen", "gltf+clearcoat+sheen"}) {
+  const std::string doc = test::write_document(
+      dir + "/hostile.json", kHostileInput,
+      {fit_of("gltf", {"baseColor=0.9,0.6,0.3", "metallic=1", "roughness=0.3"}), fit_of("gltf-specular", kGltfSpecular),
+       fit_of("gltf+clearcoat", kGltfClearcoat), fit_of("gltf+sheen", kGltfSheen),
+       fit_of("gltf+clearcoat+sheen", kGltfClearcoatSheen), fit_of("gltf+anisotropy", kGltfAnisotropy)});
+  for (const std::string& model : gltf_models()) {
     const std::string out = dir + "/" + model + ".gltf";
     const auto run = test::run_cli("export " + doc + " -m " + model + " --out " + out);
     ASSERT_EQ(run.exit_code, 0) << run.output;
@@ -702,9 +716,9 @@ TEST(MaterialImport, GltfIorZeroIsFresnelOneReadExactlyOrRefused) {
     Rgb<double> f0;
     for (int k = 0; k < 3; ++k) f0[k] = std::min(written[model.offset_of("specularColor") + k], 1.0) * specular;
     for (const auto& [l, v] : direction_pairs()) {  // ... but the same BRDF
-      const Rgb<double> expected =
-          models::gltf_metallic_roughness(&written[model.offset_of("baseColor")], written[model.offset_of("metallic")],
-                                          written[model.offset_of("roughness")], f0, specular, l, v);
+      const Rgb<double> expected = models::gltf_metallic_roughness(
+          &written[model.offset_of("baseColor")], written[model.offset_of("metallic")],
+          models::gltf_specular_vd(written[model.offset_of("roughness")], l, v), f0, specular, l, v);
       const Rgb<double> got = *model.brdf(read.values.data(), l, v);
       EXPECT_TRUE(got.isApprox(expected, 1e-12)) << got.transpose() << " vs " << expected.transpose();
     }

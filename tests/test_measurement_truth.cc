@@ -294,6 +294,50 @@ TEST(Symmetry, AnAnisotropicModelFittedToIsotropicDataComesOutIsotropicWithNoOri
   EXPECT_NEAR(alpha_x.stddev[0], 2.0 * r * roughness.stddev[0], 1e-6 * roughness.stddev[0] + 1e-15);
 }
 
+// The renderer materials with a stretch (a strength and its rotation): gltf+anisotropy is fitted
+// as its isotropic form, gltf; principled, whose isotropic lobe is no other model, with its
+// anisotropic held at 0 and its rotation at its default.
+TEST(Symmetry, TheRendererMaterialsStretchNothingOnIsotropicData) {
+  const std::string path = test::scratch_path("isotropic-gltf.binary");
+  const Model& gltf = *find_model("gltf");
+  const std::vector<double> values = parameter_values(gltf, {"baseColor=0.8,0.6,0.3", "metallic=0.9", "roughness=0.4"});
+  write_merl(path, [&](const Vec3& l, const Vec3& v) { return *gltf.brdf(values.data(), l, v); });
+  SamplingOptions sampling;
+  sampling.max_samples = 20000;
+  const SampleSet set = load_samples(path, sampling);
+  ASSERT_TRUE(set.isotropic);
+  FitOptions options;
+  options.threads = 2;
+  const std::vector<FitResult> fits =
+      fit_models({find_model("gltf"), find_model("gltf+anisotropy"), find_model("principled")}, set, options);
+  const auto param = [](const FitResult& fit, const std::string& name) {
+    return *std::find_if(fit.parameters.begin(), fit.parameters.end(),
+                         [&](const ParameterEstimate& p) { return p.name == name; });
+  };
+  const FitResult &iso = fits[0], &stretched = fits[1], &principled = fits[2];
+  ASSERT_TRUE(stretched.ok && principled.ok) << stretched.error << principled.error;
+  EXPECT_EQ(param(stretched, "anisotropyStrength").value[0], 0.0);
+  EXPECT_EQ(param(stretched, "roughness").value[0], param(iso, "roughness").value[0]);
+  EXPECT_NEAR(stretched.metrics.cosine, iso.metrics.cosine, 1e-9 * iso.metrics.cosine + 1e-12);
+  EXPECT_FALSE(param(stretched, "anisotropyRotation").identifiable);
+  EXPECT_TRUE(mentions(stretched.warnings, "fitted in its isotropic form, gltf"))
+      << ::testing::PrintToString(stretched.warnings);
+  EXPECT_TRUE(mentions(stretched.warnings, "anisotropyStrength = 0 is held: the data are isotropic"))
+      << ::testing::PrintToString(stretched.warnings);
+  EXPECT_EQ(param(principled, "anisotropic").value[0], 0.0);
+  EXPECT_TRUE(param(principled, "anisotropic").fixed);
+  EXPECT_EQ(param(principled, "anisotropicRotation").value[0], 0.0);
+  EXPECT_TRUE(mentions(principled.warnings, "principled was fitted with its lobe held isotropic (anisotropic = 0"))
+      << ::testing::PrintToString(principled.warnings);
+  // The user's held parameters get the isotropic ones added.
+  options.fixed = {{"metallic", 1.0}};
+  const FitResult held = fit_models({find_model("principled")}, set, options)[0];
+  ASSERT_TRUE(held.ok) << held.error;
+  EXPECT_TRUE(param(held, "metallic").fixed);
+  EXPECT_TRUE(param(held, "anisotropic").fixed);
+  EXPECT_EQ(param(held, "anisotropic").value[0], 0.0);
+}
+
 // --- verdicts and "best" ---------------------------------------------------------------------------
 
 // The case an expert found: gltf fitted to white paper by the log metric came back good with a

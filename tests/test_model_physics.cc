@@ -136,12 +136,21 @@ Rgb<double> directional_albedo_of(const Shade& shade, const Vec3& v, const LobeF
 
 // The frame of the anisotropic models' lobes at `values`; every model with an orientation
 // parameter is listed (checked below). Ashikhmin-Shirley's (n·h)^e ≈ exp(-e tan²θh / 2) has
-// widths √(2/n_u), √(2/n_v).
+// widths √(2/n_u), √(2/n_v); the renderer materials turn their tangent by radians.
 LobeFrame lobe_frame(const Model& m, const std::vector<double>& values) {
   auto value = [&](const char* name) { return values[m.offset_of(name)]; };
+  constexpr double kDegrees = 180 / kPi;
   if (m.name() == "ggx-aniso" || m.name() == "ward-aniso") return {value("alpha_x"), value("alpha_y"), value("phi0")};
   if (m.name() == "ashikhmin-shirley-aniso")
     return {std::sqrt(2 / (value("n_u") + 1)), std::sqrt(2 / (value("n_v") + 1)), value("phi0")};
+  if (m.name() == "gltf+anisotropy") {  // α_t = mix(α, 1, strength²) along the turned tangent, α_b = α
+    const double alpha = std::pow(value("roughness"), 2), s = value("anisotropyStrength");
+    return {alpha + (1 - alpha) * s * s, alpha, value("anisotropyRotation") * kDegrees};
+  }
+  if (m.name() == "principled") {  // Burley's α_x = r²/aspect, α_y = r²·aspect, aspect = √(1 - 0.9 anisotropic)
+    const double alpha = std::pow(value("roughness"), 2), aspect = std::sqrt(1 - 0.9 * value("anisotropic"));
+    return {std::max(0.001, alpha / aspect), std::max(0.001, alpha * aspect), value("anisotropicRotation") * kDegrees};
+  }
   return {};
 }
 
@@ -152,9 +161,9 @@ TEST(AllModels, EveryModelWithAnOrientationHasItsLobeFrame) {
     if (!oriented) continue;
     SCOPED_TRACE(m->name());
     std::vector<double> values = m->default_values();
-    for (const ParamSpec& p : m->parameters())
-      if (p.role == Role::Orientation) values[m->offset_of(p.name)] = 37;
-    EXPECT_EQ(lobe_frame(*m, values).phi0_degrees, 37);
+    for (const ParamSpec& p : m->parameters())  // 37° in the parameter's unit: radians where its range ends below 2.5
+      if (p.role == Role::Orientation) values[m->offset_of(p.name)] = p.upper < 2.5 ? 37 * kPi / 180 : 37;
+    EXPECT_NEAR(lobe_frame(*m, values).phi0_degrees, 37, 1e-12);
   }
 }
 
@@ -307,6 +316,7 @@ const std::map<std::string, Excess> kNotEnergyConserving = {
       {"baseColor=1", "roughness=0.01"},
       80}},
     {"gltf-specular", {"as gltf", {"baseColor=1", "roughness=0.01"}, 80}},
+    {"gltf+anisotropy", {"as gltf", {"baseColor=1", "roughness=0.01", "anisotropyStrength=0"}, 80}},
     {"gltf+clearcoat",
      {"as gltf under the coat, which mixes it with a lobe of albedo at most 1",
       {"baseColor=1", "roughness=0.01", "clearcoatFactor=0.5"},

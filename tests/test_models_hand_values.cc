@@ -390,6 +390,42 @@ TEST(HandValues, GltfSpecular) {
               });
 }
 
+TEST(HandValues, GltfAnisotropy) {
+  // KHR_materials_anisotropy (README, "Anisotropy" and "Implementation"), in the forms of the extension's sample code
+  // (D_GGX_anisotropic, V_GGX_anisotropic without its non-normative clamp), with t the tangent x̂ turned by the
+  // rotation about n and b = n × t:
+  //   α_t = mix(α, 1, strength²), α_b = α = roughness²
+  //   D = a²·w²/π with a² = α_t α_b, w² = a²/|(α_b h·t, α_t h·b, a² n·h)|²
+  //   V = 0.5/(n·l |(α_t v·t, α_b v·b, n·v)| + n·v |(α_t l·t, α_b l·b, n·l)|)
+  // in place of Appendix B's V·D, the rest of the core material as in HandValues.Gltf.
+  const double metallic = 0.37, roughness = 0.58, strength = 0.71, rotation = 0.83;
+  const Vec3 t(std::cos(rotation), std::sin(rotation), 0), b = Vec3::UnitZ().cross(t);
+  const double ab = roughness * roughness, at = ab + (1 - ab) * strength * strength;
+  expect_brdf("gltf+anisotropy",
+              {"baseColor=0.62,0.35,0.17", "metallic=0.37", "roughness=0.58", "anisotropyStrength=0.71",
+               "anisotropyRotation=0.83"},
+              [&](const Pair& p, int c) {
+                const double a2 = at * ab;
+                const double w2 = a2 / Vec3(ab * p.h.dot(t), at * p.h.dot(b), a2 * p.nh).squaredNorm();
+                const double d = a2 * w2 * w2 / kPi;
+                const double vis = 0.5 / (p.nl * Vec3(at * p.v.dot(t), ab * p.v.dot(b), p.nv).norm() +
+                                          p.nv * Vec3(at * p.l.dot(t), ab * p.l.dot(b), p.nl).norm());
+                const double w = pow5(1 - std::abs(p.v.dot(p.h))), fr = 0.04 + 0.96 * w;
+                const double dielectric = (1 - fr) * kBase[c] / kPi + fr * vis * d;
+                const double metal = (kBase[c] + (1 - kBase[c]) * w) * vis * d;
+                return (1 - metallic) * dielectric + metallic * metal;
+              });
+  // The stretch is along t: turning it by π/2 changes a metal's value at both pairs.
+  const Model& model = *find_model("gltf+anisotropy");
+  const std::vector<double> along = parameter_values(model, {"metallic=1", "roughness=0.3", "anisotropyStrength=0.71",
+                                                             "anisotropyRotation=0.83"}),
+                            across = parameter_values(model, {"metallic=1", "roughness=0.3", "anisotropyStrength=0.71",
+                                                              "anisotropyRotation=-0.74"});
+  for (const Pair& p : kPairs)
+    EXPECT_GT(std::abs(model.shade(along.data(), p.l, p.v)[0] / model.shade(across.data(), p.l, p.v)[0] - 1), 0.05)
+        << p.name;
+}
+
 TEST(HandValues, GltfClearcoat) {
   // KHR_materials_clearcoat (README, "Implementation"), with the clear coat's normal n (no normal texture):
   //   clearcoat_fresnel = 0.04 + (1 - 0.04) (1 - |v·n|)^5      (fresnel_coat's f0 = ((1 - 1.5)/(1 + 1.5))²)
@@ -482,40 +518,52 @@ TEST(HandValues, GltfSheen) {
 double mix(double a, double b, double t) { return a + (b - a) * t; }
 
 TEST(HandValues, PrincipledAsDisneyBrdf) {
-  // wdas/brdf src/brdfs/disney.brdf, BRDF() with anisotropic = 0 (held) and linear
-  // colour (no mon2lin):
+  // wdas/brdf src/brdfs/disney.brdf, BRDF() with linear colour (no mon2lin), its tangent X the
+  // frame's x̂ turned by anisotropicRotation about n and Y = n × X:
   //   ((1/π) mix(Fd, ss, subsurface) C + Fsheen)(1 - metallic) + Gs Fs Ds + ¼ clearcoat Gr Fr Dr
   const double metallic = 0.23, subsurface = 0.41, specular = 0.57, roughness = 0.46, specular_tint = 0.33,
-               sheen = 0.71, clearcoat = 0.64, clearcoat_gloss = 0.38, sheen_tint = 0.27;
-  expect_brdf("principled",
-              {"baseColor=0.62,0.35,0.17", "metallic=0.23", "subsurface=0.41", "specular=0.57", "roughness=0.46",
-               "specularTint=0.33", "sheen=0.71", "sheenTint=0.27", "clearcoat=0.64", "clearcoatGloss=0.38"},
-              [&](const Pair& p, int c) {
-                const double lum = 0.3 * kBase[0] + 0.6 * kBase[1] + 0.1 * kBase[2];
-                const double tint = kBase[c] / lum;
-                const double spec0 = mix(specular * 0.08 * mix(1, tint, specular_tint), kBase[c], metallic);
-                const double fl = pow5(1 - p.nl), fv = pow5(1 - p.nv), fh = pow5(1 - p.lh);
-                const double fd90 = 0.5 + 2 * p.lh * p.lh * roughness;
-                const double fd = mix(1, fd90, fl) * mix(1, fd90, fv);
-                const double fss90 = p.lh * p.lh * roughness;
-                const double fss = mix(1, fss90, fl) * mix(1, fss90, fv);
-                const double ss = 1.25 * (fss * (1 / (p.nl + p.nv) - 0.5) + 0.5);
-                const double a = std::max(0.001, roughness * roughness);
-                // GTR2 and smithG_GGX(n·w, α) = 1/(n·w + √(α² + (n·w)² - α²(n·w)²)).
-                const double ds = a * a / (kPi * std::pow(1 + (a * a - 1) * p.nh * p.nh, 2));
-                auto smith = [](double nw, double alpha) {
-                  return 1 / (nw + std::sqrt(alpha * alpha + nw * nw - alpha * alpha * nw * nw));
-                };
-                const double gs = smith(p.nl, a) * smith(p.nv, a);
-                const double fs = mix(spec0, 1, fh);
-                const double fsheen = fh * sheen * mix(1, tint, sheen_tint);
-                const double gtr1_a = mix(0.1, 0.001, clearcoat_gloss), a2 = gtr1_a * gtr1_a;
-                const double dr = (a2 - 1) / (kPi * std::log(a2) * (1 + (a2 - 1) * p.nh * p.nh));
-                const double fr = mix(0.04, 1, fh);
-                const double gr = smith(p.nl, 0.25) * smith(p.nv, 0.25);
-                return ((1 / kPi) * mix(fd, ss, subsurface) * kBase[c] + fsheen) * (1 - metallic) + gs * fs * ds +
-                       0.25 * clearcoat * gr * fr * dr;
-              });
+               sheen = 0.71, clearcoat = 0.64, clearcoat_gloss = 0.38, sheen_tint = 0.27, anisotropic = 0.47,
+               rotation = 0.9;
+  const Vec3 x(std::cos(rotation), std::sin(rotation), 0), y = Vec3::UnitZ().cross(x);
+  expect_brdf(
+      "principled",
+      {"baseColor=0.62,0.35,0.17", "metallic=0.23", "subsurface=0.41", "specular=0.57", "roughness=0.46",
+       "specularTint=0.33", "sheen=0.71", "sheenTint=0.27", "clearcoat=0.64", "clearcoatGloss=0.38", "anisotropic=0.47",
+       "anisotropicRotation=0.9"},
+      [&](const Pair& p, int c) {
+        const double lum = 0.3 * kBase[0] + 0.6 * kBase[1] + 0.1 * kBase[2];
+        const double tint = kBase[c] / lum;
+        const double spec0 = mix(specular * 0.08 * mix(1, tint, specular_tint), kBase[c], metallic);
+        const double fl = pow5(1 - p.nl), fv = pow5(1 - p.nv), fh = pow5(1 - p.lh);
+        const double fd90 = 0.5 + 2 * p.lh * p.lh * roughness;
+        const double fd = mix(1, fd90, fl) * mix(1, fd90, fv);
+        const double fss90 = p.lh * p.lh * roughness;
+        const double fss = mix(1, fss90, fl) * mix(1, fss90, fv);
+        const double ss = 1.25 * (fss * (1 / (p.nl + p.nv) - 0.5) + 0.5);
+        // GTR2_aniso with aspect = √(1 - 0.9 anisotropic), ax = max(0.001, r²/aspect), ay = max(0.001,
+        // r²·aspect), and smithG_GGX_aniso(n·w, w·X, w·Y) = 1/(n·w + √((w·X ax)² + (w·Y ay)² + (n·w)²)).
+        const double aspect = std::sqrt(1 - 0.9 * anisotropic);
+        const double ax = std::max(0.001, roughness * roughness / aspect),
+                     ay = std::max(0.001, roughness * roughness * aspect);
+        const double ds = 1 / (kPi * ax * ay *
+                               std::pow(std::pow(p.h.dot(x) / ax, 2) + std::pow(p.h.dot(y) / ay, 2) + p.nh * p.nh, 2));
+        auto smith_aniso = [&](const Vec3& w) {
+          return 1 / (w.z() + std::sqrt(std::pow(w.dot(x) * ax, 2) + std::pow(w.dot(y) * ay, 2) + w.z() * w.z()));
+        };
+        const double gs = smith_aniso(p.l) * smith_aniso(p.v);
+        // smithG_GGX(n·w, α) = 1/(n·w + √(α² + (n·w)² - α²(n·w)²)) for the clear coat.
+        auto smith = [](double nw, double alpha) {
+          return 1 / (nw + std::sqrt(alpha * alpha + nw * nw - alpha * alpha * nw * nw));
+        };
+        const double fs = mix(spec0, 1, fh);
+        const double fsheen = fh * sheen * mix(1, tint, sheen_tint);
+        const double gtr1_a = mix(0.1, 0.001, clearcoat_gloss), a2 = gtr1_a * gtr1_a;
+        const double dr = (a2 - 1) / (kPi * std::log(a2) * (1 + (a2 - 1) * p.nh * p.nh));
+        const double fr = mix(0.04, 1, fh);
+        const double gr = smith(p.nl, 0.25) * smith(p.nv, 0.25);
+        return ((1 / kPi) * mix(fd, ss, subsurface) * kBase[c] + fsheen) * (1 - metallic) + gs * fs * ds +
+               0.25 * clearcoat * gr * fr * dr;
+      });
 }
 
 TEST(HandValues, MitsubaPrincipledAsThePlugin) {

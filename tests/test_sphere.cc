@@ -172,7 +172,17 @@ TEST(SphereGeometry, LocalFrameIsOrthonormalWithTheNormalUp) {
     const Vec3 d = test::random_upper_direction(rng, 0.0);
     EXPECT_NEAR(frame.to_local(d).norm(), 1.0, 1e-12);
     EXPECT_NEAR(frame.to_local(d).z(), n.dot(d), 1e-12);
+    // The tangent runs along the longitude (horizontal), the bitangent upward.
+    EXPECT_NEAR(frame.tangent.y(), 0.0, 1e-12);
+    EXPECT_GT(frame.bitangent.y(), 0.0);
   }
+  // At the sphere's centre the frame is the camera's: x right, y up; at a normal to the right
+  // (1, 0, 1)/√2 the tangent leans away from the camera, (1, 0, -1)/√2, as a UV sphere's u.
+  const LocalFrame centre(Vec3(0, 0, 1));
+  EXPECT_NEAR((centre.tangent - Vec3(1, 0, 0)).norm(), 0.0, 1e-15);
+  EXPECT_NEAR((centre.bitangent - Vec3(0, 1, 0)).norm(), 0.0, 1e-15);
+  const LocalFrame right(Vec3(1, 0, 1).normalized());
+  EXPECT_NEAR((right.tangent - Vec3(1, 0, -1).normalized()).norm(), 0.0, 1e-15);
 }
 
 TEST(SphereGeometry, PixelRulesInOrder) {

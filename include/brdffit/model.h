@@ -110,11 +110,18 @@ class Model {
 std::vector<double> embed_values(const Model& outer, const Nesting& nesting, const Model& inner,
                                  const std::vector<double>& inner_values);
 
-// The model's isotropic form: its exact nesting that holds only the lobe's orientation
-// (Role::Orientation) and copies every other parameter from the contained isotropic model (ggx-aniso's
-// ggx, α_x = α_y = roughness²). The fitter fits that form in the model's place on isotropic data.
+// The model's isotropic form: its exact nesting that holds only the lobe's orientation and
+// anisotropy (Role::Orientation, Role::Anisotropy) and copies every other parameter from the
+// contained isotropic model (ggx-aniso's ggx, α_x = α_y = roughness²; gltf+anisotropy's gltf,
+// anisotropyStrength 0). The fitter fits that form in the model's place on isotropic data.
 // nullptr when the model has no orientation or declares no such nesting.
 const Nesting* isotropic_form(const Model& model);
+
+// What holds a model's lobe isotropic where it has no isotropic form (principled, whose isotropic
+// lobe is no other model): every Role::Anisotropy parameter at 0 and every Role::Orientation one
+// at its default (an isotropic lobe is the same turned any way). The fitter holds them so on
+// isotropic data. Empty when the model has no Role::Anisotropy parameter.
+std::vector<std::pair<std::string, double>> isotropic_holds(const Model& model);
 
 // The shaded value of a fitted model: one value vector, or one per channel (FitResult's
 // channel_values) when that is non-empty.

@@ -15,6 +15,7 @@ enum class Role {
   Exponent,        // lobe sharpness exponent (shininess, gloss, n)
   Wrap,            // how far lighting wraps past the terminator
   Orientation,     // rotation of an anisotropic lobe's frame about the normal (meaningless on isotropic data)
+  Anisotropy,      // how much an anisotropic lobe's widths differ (0: isotropic, which isotropic data imply)
   Shape,           // any other shape parameter
 };
 

@@ -1,7 +1,8 @@
 // glTF 2.0 (.gltf): the gltf model as the core metallic-roughness material, gltf-specular with
 // KHR_materials_ior and KHR_materials_specular, gltf+clearcoat, gltf+sheen and
-// gltf+clearcoat+sheen with KHR_materials_clearcoat, KHR_materials_sheen or both, on a small
-// sphere mesh so that any viewer shows it; and read back (material_export.h).
+// gltf+clearcoat+sheen with KHR_materials_clearcoat, KHR_materials_sheen or both, gltf+anisotropy
+// with KHR_materials_anisotropy, on a small sphere mesh so that any viewer shows it; and read back
+// (material_export.h).
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -28,19 +29,26 @@ void append_bytes(std::vector<uint8_t>& bytes, const T& value) {
   bytes.insert(bytes.end(), p, p + sizeof(T));
 }
 
-// A unit UV sphere: positions (= normals), and triangles with a fan at each pole (no degenerate
-// triangle), counter-clockwise seen from outside as glTF requires.
+// A unit UV sphere: positions (= normals), tangents, and triangles with a fan at each pole (no
+// degenerate triangle), counter-clockwise seen from outside as glTF requires. The tangent runs
+// along the longitude, ŷ × n normalised, with bitangent n × t (w = 1): the frame in which brdffit
+// evaluates a model on a sphere (imaging/sphere.h's LocalFrame), x̂ at the poles.
 struct SphereMesh {
   std::vector<float> positions;  // x, y, z per vertex
+  std::vector<float> tangents;   // x, y, z, w per vertex
   std::vector<uint16_t> indices;
 };
 
 SphereMesh sphere_mesh(int rings = 16, int segments = 32) {
   SphereMesh mesh;
   const auto add = [&](double theta, double phi) {
+    const bool pole = theta == 0.0 || theta == kPi;
     mesh.positions.push_back(static_cast<float>(std::sin(theta) * std::cos(phi)));
     mesh.positions.push_back(static_cast<float>(std::cos(theta)));
     mesh.positions.push_back(static_cast<float>(-std::sin(theta) * std::sin(phi)));
+    // ŷ × n = (n_z, 0, -n_x) = sinθ·(-sin φ, 0, -cos φ).
+    mesh.tangents.insert(mesh.tangents.end(), {pole ? 1.0f : static_cast<float>(-std::sin(phi)), 0.0f,
+                                               pole ? 0.0f : static_cast<float>(-std::cos(phi)), 1.0f});
   };
   add(0.0, 0.0);  // north pole (+y), vertex 0
   for (int r = 1; r < rings; ++r)
@@ -97,14 +105,26 @@ std::string gltf_document(const Material& material, const nlohmann::json& proven
         {"sheenRoughnessFactor", value_at(model, v, "sheenRoughnessFactor")}};
     extensions_used.push_back("KHR_materials_sheen");
   }
+  // The stretch is relative to the mesh's TANGENT, which the extension then requires.
+  const bool anisotropic = model.find_parameter("anisotropyStrength") != nullptr;
+  if (anisotropic) {
+    gltf_material["extensions"]["KHR_materials_anisotropy"] = {
+        {"anisotropyStrength", value_at(model, v, "anisotropyStrength")},
+        {"anisotropyRotation", value_at(model, v, "anisotropyRotation")}};
+    extensions_used.push_back("KHR_materials_anisotropy");
+  }
 
-  // One buffer: positions, normals (the same unit vectors), then 16-bit indices.
+  // One buffer: positions, normals (the same unit vectors), 16-bit indices, then the tangents of
+  // an anisotropic material.
   const SphereMesh mesh = sphere_mesh();
   std::vector<uint8_t> bytes;
   for (int copy = 0; copy < 2; ++copy)
     for (float x : mesh.positions) append_bytes(bytes, x);
   for (uint16_t i : mesh.indices) append_bytes(bytes, i);
   while (bytes.size() % 4) bytes.push_back(0);
+  const size_t tangent_offset = bytes.size();
+  if (anisotropic)
+    for (float x : mesh.tangents) append_bytes(bytes, x);
   const size_t vertices = mesh.positions.size() / 3, vertex_bytes = vertices * 12;
   nlohmann::json gltf = {
       {"asset", {{"version", "2.0"}, {"generator", "brdffit " BRDFFIT_VERSION}}},
@@ -138,6 +158,12 @@ std::string gltf_document(const Material& material, const nlohmann::json& proven
     }
   gltf["accessors"][0]["min"] = number_array(lo);
   gltf["accessors"][0]["max"] = number_array(hi);
+  if (anisotropic) {
+    gltf["meshes"][0]["primitives"][0]["attributes"]["TANGENT"] = 3;
+    gltf["accessors"].push_back({{"bufferView", 3}, {"componentType", 5126}, {"count", vertices}, {"type", "VEC4"}});
+    gltf["bufferViews"].push_back(
+        {{"buffer", 0}, {"byteOffset", tangent_offset}, {"byteLength", vertices * 16}, {"target", 34962}});
+  }
   if (!extensions_used.empty()) gltf["extensionsUsed"] = extensions_used;
   return gltf.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
@@ -247,20 +273,41 @@ void read_sheen(const Model& model, Material& material, const nlohmann::json& sh
       warnings.push_back(fmt::format("{}: {} has a {}: only the factors are scored", path, where, texture));
 }
 
+// KHR_materials_anisotropy's strength and rotation (defaults 0) into the gltf+anisotropy model. The
+// rotation is any angle in glTF; the lobe is the same turned by π, so it is brought into the
+// model's interval of length π exactly.
+void read_anisotropy(const Model& model, Material& material, const nlohmann::json& anisotropy, const std::string& path,
+                     const std::string& where, std::vector<std::string>& warnings) {
+  const double strength = json_numbers(anisotropy.value("anisotropyStrength", nlohmann::json(0.0)), 1,
+                                       where + " anisotropyStrength", path)[0];
+  const double rotation = json_numbers(anisotropy.value("anisotropyRotation", nlohmann::json(0.0)), 1,
+                                       where + " anisotropyRotation", path)[0];
+  set_parameter(model, material, "anisotropyStrength", {strength}, path, warnings);
+  if (!std::isfinite(rotation)) fail("{}: {} anisotropyRotation is not a finite number", path, where);
+  const ParamSpec& p = *model.find_parameter("anisotropyRotation");
+  material.values[model.offset_of(p.name)] = p.lower + std::fmod(std::fmod(rotation - p.lower, kPi) + kPi, kPi);
+  if (anisotropy.contains("anisotropyTexture"))
+    warnings.push_back(fmt::format("{}: {} has an anisotropyTexture: only the factors are scored", path, where));
+}
+
 // One entry of a glTF file's "materials" (an object). A material with KHR_materials_clearcoat,
 // KHR_materials_sheen or both is read as gltf+clearcoat, gltf+sheen or gltf+clearcoat+sheen, unless
 // it also has KHR_materials_ior or KHR_materials_specular, which gltf-specular holds (no model holds
-// both: the coat and sheen are then reported as left out).
+// both: the coat and sheen are then reported as left out). One with KHR_materials_anisotropy and
+// none of those is read as gltf+anisotropy; with any of them, its anisotropy is reported as left out.
 Material read_gltf_material(const nlohmann::json& m, int index, const std::string& path,
                             std::vector<std::string>& warnings) {
   const nlohmann::json extensions = m.value("extensions", nlohmann::json::object());
   const bool has_specular = extensions.contains("KHR_materials_ior") || extensions.contains("KHR_materials_specular");
   const bool has_clearcoat = !has_specular && extensions.contains("KHR_materials_clearcoat");
   const bool has_sheen = !has_specular && extensions.contains("KHR_materials_sheen");
-  const Model& model = *find_model(has_specular    ? "gltf-specular"
-                                   : has_clearcoat ? (has_sheen ? "gltf+clearcoat+sheen" : "gltf+clearcoat")
-                                   : has_sheen     ? "gltf+sheen"
-                                                   : "gltf");
+  const bool has_anisotropy =
+      !has_specular && !has_clearcoat && !has_sheen && extensions.contains("KHR_materials_anisotropy");
+  const Model& model = *find_model(has_specular     ? "gltf-specular"
+                                   : has_clearcoat  ? (has_sheen ? "gltf+clearcoat+sheen" : "gltf+clearcoat")
+                                   : has_sheen      ? "gltf+sheen"
+                                   : has_anisotropy ? "gltf+anisotropy"
+                                                    : "gltf");
   Material material{m.value("name", fmt::format("material {}", index)), model.name(), model.default_values()};
   // glTF's defaults where a factor is absent: baseColor 1, metallic 1, roughness 1.
   const nlohmann::json pbr = m.value("pbrMetallicRoughness", nlohmann::json::object());
@@ -293,12 +340,14 @@ Material read_gltf_material(const nlohmann::json& m, int index, const std::strin
   }
   if (has_clearcoat) read_clearcoat(model, material, extensions["KHR_materials_clearcoat"], path, where, warnings);
   if (has_sheen) read_sheen(model, material, extensions["KHR_materials_sheen"], path, where, warnings);
+  if (has_anisotropy) read_anisotropy(model, material, extensions["KHR_materials_anisotropy"], path, where, warnings);
   for (const char* texture : {"baseColorTexture", "metallicRoughnessTexture"})
     if (pbr.contains(texture))
       warnings.push_back(fmt::format("{}: {} has a {}: only the factors are scored", path, where, texture));
   for (const auto& [name, value] : extensions.items())
     if (name != "KHR_materials_ior" && name != "KHR_materials_specular" &&
-        !(has_clearcoat && name == "KHR_materials_clearcoat") && !(has_sheen && name == "KHR_materials_sheen"))
+        !(has_clearcoat && name == "KHR_materials_clearcoat") && !(has_sheen && name == "KHR_materials_sheen") &&
+        !(has_anisotropy && name == "KHR_materials_anisotropy"))
       warnings.push_back(
           fmt::format("{}: {} uses {}, which the {} model it is read as leaves out", path, where, name, model.name()));
   return material;

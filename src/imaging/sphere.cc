@@ -116,7 +116,16 @@ cv::Rect SphereView::bounds(cv::Size image) const {
   return box & cv::Rect(cv::Point(0, 0), image);
 }
 
-LocalFrame::LocalFrame(const Vec3& n) : tangent(n.unitOrthogonal()), bitangent(n.cross(tangent)), normal(n) {}
+namespace {
+// The longitude direction ŷ × n, where a UV sphere's u grows (three.js's SphereGeometry and the
+// tangents it computes); at the poles, where it vanishes, any direction across the normal.
+Vec3 longitude_tangent(const Vec3& n) {
+  const Vec3 along = Vec3::UnitY().cross(n);
+  return along.norm() > 1e-9 ? along.normalized() : n.unitOrthogonal();
+}
+}  // namespace
+
+LocalFrame::LocalFrame(const Vec3& n) : tangent(longitude_tangent(n)), bitangent(n.cross(tangent)), normal(n) {}
 
 const char* pixel_fate_name(PixelFate fate) {
   switch (fate) {

@@ -13,7 +13,8 @@
 // (three.js applies outputColorSpace and toneMapping only when drawing to the screen).
 //
 // The material comes from three's own GLTFLoader (MeshStandardMaterial for core glTF,
-// MeshPhysicalMaterial with KHR_materials_ior / _specular / _clearcoat); the sphere is three's SphereGeometry,
+// MeshPhysicalMaterial with KHR_materials_ior / _specular / _clearcoat / _sheen / _anisotropy); the sphere is three's
+// SphereGeometry with its tangents computed,
 // tessellated finely so that interpolated vertex normals stay within a fraction of a pixel's
 // normal change of the analytic sphere's.
 //
@@ -47,7 +48,11 @@ async function render() {
   const gltf = await new GLTFLoader().loadAsync('/material.gltf');
   const material = await gltf.parser.getDependency('material', 0);
   const scene = new THREE.Scene();
-  scene.add(new THREE.Mesh(new THREE.SphereGeometry(1, 720, 360), material));
+  // Tangents along u, the longitude: brdffit's shading frame on its sphere (sphere.h's LocalFrame), which
+  // KHR_materials_anisotropy's rotation is relative to. three.js uses them only for anisotropy.
+  const sphere = new THREE.SphereGeometry(1, 720, 360);
+  sphere.computeTangents();
+  scene.add(new THREE.Mesh(sphere, material));
   const sun = new THREE.DirectionalLight(0xffffff, 1.0);
   sun.position.set(light[0], light[1], light[2]);  // toward the light; its target stays at the origin
   scene.add(sun);

@@ -130,8 +130,10 @@ struct NormalCheck {
 NormalCheck check_normals(const SphereView& sphere, const std::string& normal_map, cv::Size size, const cv::Mat& mask);
 
 // A right-handed orthonormal frame around a normal; to_local maps camera-frame directions to
-// the shading frame in which the normal is +z (the tangent's azimuth is arbitrary but fixed:
-// the models are isotropic).
+// the shading frame in which the normal is +z. The tangent runs along the sphere's longitude,
+// ŷ × n normalised (y up in the camera frame), as a UV sphere's u does: an anisotropic model's
+// x axis (ggx-aniso's phi0 0, gltf+anisotropy's rotation 0) is horizontal, the bitangent
+// points up, as three.js draws an exported glTF on its SphereGeometry.
 struct LocalFrame {
   explicit LocalFrame(const Vec3& normal);
   Vec3 to_local(const Vec3& d) const { return Vec3(tangent.dot(d), bitangent.dot(d), normal.dot(d)); }

@@ -42,16 +42,16 @@ T gltf_specular_vd(const T& roughness, const Vec3& l, const Vec3& v) {
 // The metallic-roughness BRDF with the dielectric Fresnel of KHR_materials_specular
 // (extensions/2.0/Khronos/KHR_materials_specular): per channel
 //   F_d = f0 + (f90 - f0)(1 - |v·h|)^5,   dielectric = F_d·V·D + (1 - max(F_d))·baseColor/π,
-// which is Appendix B's for f0 = 0.04 (grey) and f90 = 1.
+// which is Appendix B's for f0 = 0.04 (grey) and f90 = 1. `specular` is the lobe's V·D:
+// gltf_specular_vd, or KHR_materials_anisotropy's (gltf_anisotropy.h).
 template <class T>
-Rgb<T> gltf_metallic_roughness(const T* base_color, const T& metallic, const T& roughness, const Rgb<T>& dielectric_f0,
+Rgb<T> gltf_metallic_roughness(const T* base_color, const T& metallic, const T& specular, const Rgb<T>& dielectric_f0,
                                const T& dielectric_f90, const Vec3& l, const Vec3& v) {
   const double nl = l.z(), nv = v.z();
   Rgb<T> f(T(0.0), T(0.0), T(0.0));
   if (nl <= 0.0 || nv <= 0.0) return f;
   const double vh = std::abs(v.dot(half_vector(l, v)));
   const double w = schlick_weight(vh);
-  const T specular = gltf_specular_vd(roughness, l, v);
   Rgb<T> dielectric_fresnel;
   for (int c = 0; c < 3; ++c) dielectric_fresnel[c] = dielectric_f0[c] + (dielectric_f90 - dielectric_f0[c]) * w;
   T fresnel_max = dielectric_fresnel[0];
@@ -87,7 +87,6 @@ struct Gltf {
   static constexpr const char* kName = "gltf";
   static constexpr const char* kSummary =
       "glTF 2.0 metallic-roughness (spec Appendix B): GGX α = roughness², height-correlated Smith, F0 0.04 / baseColor";
-  // Appendix B ("Coupling Diffuse and Specular Reflection"): weighting the diffuse term by
   // Not energy conserving although each term alone reflects at most 1: the dielectric lobe is
   // always there, and the diffuse under it is weighted by 1 - F(v·h) at each microfacet rather
   // than by what the lobe leaves, so baseColor 1 with metallic 0 and roughness 0.01 reflects 1.35
@@ -104,7 +103,9 @@ struct Gltf {
   template <class T>
   static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
     const Rgb<T> f0(T(0.04), T(0.04), T(0.04));
-    return gltf_metallic_roughness(p + kBaseColor, p[kMetallic], p[kRoughness], f0, T(1.0), l, v);
+    if (l.z() <= 0.0 || v.z() <= 0.0) return Rgb<T>(T(0.0), T(0.0), T(0.0));
+    return gltf_metallic_roughness(p + kBaseColor, p[kMetallic], gltf_specular_vd(p[kRoughness], l, v), f0, T(1.0), l,
+                                   v);
   }
 
   // The recovery tests' material (model.h): a glossy roughness; at the middle of the log range,

@@ -23,7 +23,6 @@ struct GltfSpecular {
   static constexpr const char* kName = "gltf-specular";
   static constexpr const char* kSummary =
       "glTF 2.0 metallic-roughness with KHR_materials_ior and KHR_materials_specular (ior, specular, specularColor)";
-  // Appendix B ("Coupling Diffuse and Specular Reflection"): weighting the diffuse term by
   // Not energy conserving although each term alone reflects at most 1: the dielectric lobe is
   // always there, and the diffuse under it is weighted by 1 - F(v·h) at each microfacet rather
   // than by what the lobe leaves, so baseColor 1 with metallic 0 and roughness 0.01 reflects 1.35
@@ -58,7 +57,9 @@ struct GltfSpecular {
       const T tinted = r * r * p[kSpecularColor + c];
       f0[c] = (tinted < T(1.0) ? tinted : T(1.0)) * p[kSpecular];
     }
-    return gltf_metallic_roughness(p + kBaseColor, p[kMetallic], p[kRoughness], f0, p[kSpecular], l, v);
+    if (l.z() <= 0.0 || v.z() <= 0.0) return Rgb<T>(T(0.0), T(0.0), T(0.0));
+    return gltf_metallic_roughness(p + kBaseColor, p[kMetallic], gltf_specular_vd(p[kRoughness], l, v), f0,
+                                   p[kSpecular], l, v);
   }
 
   // Fits of its own values (model.h): KHR_materials_ior and specularColor both scale the
