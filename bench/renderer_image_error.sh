@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The renderer-vs-brdffit image error of every glTF export (issue 23): each shared MERL proxy is
-# fitted with gltf, gltf-specular, gltf+clearcoat and gltf+sheen; each fit is exported as .gltf,
+# fitted with gltf, gltf-specular, gltf+clearcoat, gltf+sheen, gltf+clearcoat+sheen and gltf+anisotropy (its
+# isotropic form, gltf, on these isotropic tables); each fit is exported as .gltf,
 # drawn by three.js in headless Chromium (tests/tools/render_gltf_three.js: one directional light,
 # no environment, no tone mapping, linear floats) and by `brdffit render` (.exr) on the same
 # sphere under the same light; prints the mean relative difference per channel over the lit
@@ -16,7 +17,7 @@ here=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$here/build}
 work=${2:-/tmp/brdffit-image-error}
 brdffit=$build/apps/brdffit
-models=(gltf gltf-specular gltf+clearcoat gltf+sheen)
+models=(gltf gltf-specular gltf+clearcoat gltf+sheen gltf+clearcoat+sheen gltf+anisotropy)
 size=256
 light=0.3,0.4,0.866
 chromium=$(command -v chromium || command -v chromium-browser) || { echo "chromium not found" >&2; exit 1; }
