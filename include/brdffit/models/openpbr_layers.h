@@ -126,8 +126,12 @@ Rgb<T> openpbr_coat_layer(const T* p, const T* coat, const Vec3& l, const Vec3& 
   const T compensation = 1.0 + fresnel * (1.0 - single_scattering) / single_scattering;
   const T f0_root = (coat_ior - 1.0) / (coat_ior + 1.0), coat_f0 = f0_root * f0_root;
   const T throughput = 1.0 - weight * (coat_f0 * scale + bias) * compensation;
-  const T lobe = weight * ggx_ndf(h, alpha, alpha) * fresnel * ggx_height_correlated_g2(l, v, alpha, alpha) *
-                 compensation / (4.0 * nl * nv);
+  // Isotropic D and G2 in MaterialX's form: D = α²/(π((n·h)²(α² - 1) + 1)²) and
+  // G2/(4 n·l n·v) = 1/(2(λl n·v + λv n·l)), λ = √(α² + (1 - α²)μ²).
+  const T alpha2 = alpha * alpha, ndf_root = h.z() * h.z() * (alpha2 - 1.0) + 1.0;
+  const T lambda_l = sqrt(alpha2 + (1.0 - alpha2) * (nl * nl)), lambda_v = sqrt(alpha2 + (1.0 - alpha2) * (nv * nv));
+  const T lobe =
+      weight * alpha2 * fresnel * compensation / (2.0 * kPi * ndf_root * ndf_root * (lambda_l * nv + lambda_v * nl));
 
   // Darkening by the coat's internal reflections (K), and its absorption.
   const T internal_reflection = 1.0 - (1.0 - coat_f0) / (coat_ior * coat_ior);
@@ -233,8 +237,14 @@ struct OpenPbrLayers {
     return f;
   }
 
-  // As openpbr's: the base's ior and colours trade off, and so do the coat's weight and ior.
-  static RecoveryFacts recovery_facts() { return OpenPbr::recovery_facts(); }
+  // As openpbr's (its ior and colours trade off), and the coat's colour with the base's (see
+  // tests/test_openpbr_layers.cc). The coat as in fits of glossy tables (α = 0.0625), not the middle
+  // of its log range (α = 0.006, a mirror random directions rarely see).
+  static RecoveryFacts recovery_facts() {
+    RecoveryFacts facts = OpenPbr::recovery_facts();
+    if (kHasCoat) facts.material = {"coat_roughness=0.25"};
+    return facts;
+  }
 
   static std::vector<Nesting> nestings() {
     std::vector<Nesting::Copy> base;
