@@ -46,15 +46,17 @@
 // follows): the coat_color absorption is the constant A, without the specification's
 // view-dependent T^(1/μi + 1/μo) in the refracted cosines; the darkening's K is the rough base's
 // K_r with F0c for the hemispherical Fresnel average E_F, and not blended towards K_s = F(ωo) by
-// the base's roughness; the coat's layering is albedo scaling by τ(v) with MaterialX's fitted
-// albedo and energy compensation, not the specification's unspecified layer; E and D_ltc are
+// the base's roughness; the coat's layering (the specification leaves the operator to the
+// implementation) is albedo scaling by τ(v) with MaterialX's fitted albedo and energy
+// compensation; E and D_ltc are
 // MaterialX's closed-form fits instead of Zeltner's tables. Where brdffit departs from MaterialX:
 // the base is openpbr's (MaterialX layers its dielectric by albedo scaling with its own fitted
 // albedo and adds energy compensation to the base's lobes; see openpbr.h), E is clamped at 0
 // (MaterialX's Gaussian fit dips to -2e-5 near σ = 0.1, n·v ≈ 0.3), and fuzz_roughness is fitted
-// in [0.1, 1] (MaterialX clamps it at 0.01; below 0.1 the fuzz reflects at most 0.5 % and a
-// table cannot see it), coat_roughness in [0.01, 1] (the specification's default 0 is a
-// mirror, which no table resolves), coat_ior in [1, 3] (the specification's soft range).
+// in [0.1, 1] (MaterialX clamps it at 0.01; at σ = 0.05 the fuzz's albedo E is below 1 % beyond
+// n·v = 0.044, a few grazing bins of a table, as with glTF's sheen), coat_roughness in [0.01, 1]
+// with a fit's start at 0.1 (the specification's default 0 is a mirror, which no table
+// resolves), coat_ior in [1, 3] (the specification's soft range).
 //
 // Neither layer is reciprocal: τ, E and the LTC's frame depend on v alone, as in MaterialX
 // (brdffit's openpbr base, alone, is). Energy: the fuzz layer conserves it (D_ltc integrates to at
@@ -238,8 +240,8 @@ struct OpenPbrLayers {
   }
 
   // As openpbr's (its ior and colours trade off), and the coat's colour with the base's (see
-  // tests/test_openpbr_layers.cc). The coat as in fits of glossy tables (α = 0.0625), not the middle
-  // of its log range (α = 0.006, a mirror random directions rarely see).
+  // tests/test_openpbr_layers.cc). The recovered coat is a glossy one (α = 0.0625), not the middle
+  // of coat_roughness's log range (α of 0.006 or less, a mirror random directions rarely see).
   static RecoveryFacts recovery_facts() {
     RecoveryFacts facts = OpenPbr::recovery_facts();
     if (kHasCoat) facts.material = {"coat_roughness=0.25"};
