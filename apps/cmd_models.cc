@@ -49,7 +49,9 @@ void print_models(bool json) {
   say("\nTwo specular lobes over one Lambert base: FIRST+SECOND (e.g. -m ggx+ggx, cook-torrance+cook-torrance,\n"
       "ggx+beckmann) with any two models above that are a lobe over albedo/π. The second lobe's parameters\n"
       "take the suffix _2 (roughness_2); a weight_2 scales it when its own scale cannot switch it off.\n"
-      "`brdffit eval -m ggx+ggx --param roughness_2=0.1 ...` works as for any model. 'all' is the list above.\n");
+      "`brdffit eval -m ggx+ggx --param roughness_2=0.1 ...` works as for any model. 'all' is the list above.\n"
+      "A renderer material's layers may be named in any order: gltf+sheen+clearcoat is gltf+clearcoat+sheen,\n"
+      "openpbr+fuzz+coat is openpbr+coat+fuzz.\n");
 }
 
 struct EvalArgs {

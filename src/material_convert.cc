@@ -63,10 +63,16 @@ std::vector<double> values_from_core(const Model& model, const Core& core) {
   };
   const Rgb<double> base = core.base_color.cwiseMax(0.0).cwiseMin(1.0),
                     tint = core.specular_color.cwiseMax(0.0).cwiseMin(1.0);
-  if (is_gltf_model(name)) {  // the core holds no coat, sheen or stretch: the extensions' layers off
+  if (is_gltf_model(name)) {  // the core's coat and sheen where the model has them (their weight 0: off); no stretch
     set_colour(model, values, "baseColor", base);
-    if (model.find_parameter("clearcoatFactor")) set_value(model, values, "clearcoatFactor", 0.0);
-    if (model.find_parameter("sheenColorFactor")) set_colour(model, values, "sheenColorFactor", Rgb<double>::Zero());
+    if (model.find_parameter("clearcoatFactor")) {
+      set_value(model, values, "clearcoatFactor", clamp_to("clearcoatFactor", core.coat.weight));
+      set_value(model, values, "clearcoatRoughnessFactor", clamp_to("clearcoatRoughnessFactor", core.coat.roughness));
+    }
+    if (model.find_parameter("sheenColorFactor")) {
+      set_colour(model, values, "sheenColorFactor", (core.sheen.weight * core.sheen.color).cwiseMax(0.0).cwiseMin(1.0));
+      set_value(model, values, "sheenRoughnessFactor", clamp_to("sheenRoughnessFactor", core.sheen.roughness));
+    }
     if (model.find_parameter("anisotropyStrength")) set_value(model, values, "anisotropyStrength", 0.0);
     set_value(model, values, "metallic", clamp_to("metallic", core.metallic));
     set_value(model, values, "roughness", clamp_to("roughness", core.roughness));
@@ -75,12 +81,23 @@ std::vector<double> values_from_core(const Model& model, const Core& core) {
       set_value(model, values, "specular", clamp_to("specular", core.specular_weight));
       set_colour(model, values, "specularColor", tint);
     }
-  } else if (name == "openpbr") {  // its specular_weight is held at 1: the weight goes into the ior
+  } else if (is_openpbr_model(name)) {  // its specular_weight is held at 1: the weight goes into the ior
     set_colour(model, values, "base_color", base);
     set_value(model, values, "base_metalness", clamp_to("base_metalness", core.metallic));
     set_value(model, values, "specular_roughness", clamp_to("specular_roughness", core.roughness));
     set_value(model, values, "specular_ior", clamp_to("specular_ior", ior_from_f0(dielectric_f0(core))));
     set_colour(model, values, "specular_color", tint);
+    if (model.find_parameter("coat_weight")) {
+      set_value(model, values, "coat_weight", clamp_to("coat_weight", core.coat.weight));
+      set_colour(model, values, "coat_color", core.coat.color.cwiseMax(0.0).cwiseMin(1.0));
+      set_value(model, values, "coat_roughness", clamp_to("coat_roughness", core.coat.roughness));
+      set_value(model, values, "coat_ior", clamp_to("coat_ior", core.coat.ior));
+    }
+    if (model.find_parameter("fuzz_weight")) {
+      set_value(model, values, "fuzz_weight", clamp_to("fuzz_weight", core.sheen.weight));
+      set_colour(model, values, "fuzz_color", core.sheen.color.cwiseMax(0.0).cwiseMin(1.0));
+      set_value(model, values, "fuzz_roughness", clamp_to("fuzz_roughness", core.sheen.roughness));
+    }
   } else if (name == "principled" || name == "mitsuba-principled") {
     set_colour(model, values, principled_base_color(name), base);
     set_value(model, values, "metallic", clamp_to("metallic", core.metallic));
@@ -103,10 +120,19 @@ bool is_gltf_model(const std::string& name) {
   return std::find(gltf_models().begin(), gltf_models().end(), name) != gltf_models().end();
 }
 
+const std::vector<std::string>& openpbr_models() {
+  static const std::vector<std::string> models = {"openpbr", "openpbr+coat", "openpbr+fuzz", "openpbr+coat+fuzz"};
+  return models;
+}
+bool is_openpbr_model(const std::string& name) {
+  return std::find(openpbr_models().begin(), openpbr_models().end(), name) != openpbr_models().end();
+}
+
 const std::vector<std::string>& renderer_materials() {
   static const std::vector<std::string> models = [] {
     std::vector<std::string> names = gltf_models();
-    names.insert(names.end(), {"openpbr", "principled", "mitsuba-principled"});
+    names.insert(names.end(), openpbr_models().begin(), openpbr_models().end());
+    names.insert(names.end(), {"principled", "mitsuba-principled"});
     return names;
   }();
   return models;
@@ -147,12 +173,28 @@ Core core_of(const std::string& model_name, const std::vector<double>& values) {
       core.specular_weight = value_at(model, values, "specular");
       core.specular_color = colour_at(model, values, "specularColor");
     }
-  } else if (model_name == "openpbr") {
+    if (model.find_parameter("clearcoatFactor")) {
+      core.coat.weight = value_at(model, values, "clearcoatFactor");
+      core.coat.roughness = value_at(model, values, "clearcoatRoughnessFactor");
+    }
+    if (model.find_parameter("sheenColorFactor")) {
+      const Rgb<double> sheen = colour_at(model, values, "sheenColorFactor");
+      core.sheen.weight = sheen.maxCoeff();
+      if (core.sheen.weight > 0.0) core.sheen.color = sheen / core.sheen.weight;
+      core.sheen.roughness = value_at(model, values, "sheenRoughnessFactor");
+    }
+  } else if (is_openpbr_model(model_name)) {
     core.base_color = colour_at(model, values, "base_color");
     core.metallic = value_at(model, values, "base_metalness");
     core.roughness = value_at(model, values, "specular_roughness");
     core.ior = value_at(model, values, "specular_ior");
     core.specular_color = colour_at(model, values, "specular_color");
+    if (model.find_parameter("coat_weight"))
+      core.coat = {value_at(model, values, "coat_weight"), value_at(model, values, "coat_roughness"),
+                   value_at(model, values, "coat_ior"), colour_at(model, values, "coat_color")};
+    if (model.find_parameter("fuzz_weight"))
+      core.sheen = {value_at(model, values, "fuzz_weight"), value_at(model, values, "fuzz_roughness"),
+                    colour_at(model, values, "fuzz_color")};
   } else if (model_name == "principled" || model_name == "mitsuba-principled") {
     // Burley's parameters, under Mitsuba's names in mitsuba-principled (whose η is exactly
     // ior_from_f0(0.08·specular)).

@@ -33,6 +33,7 @@
 #include "brdffit/models/minnaert.h"
 #include "brdffit/models/mitsuba_principled.h"
 #include "brdffit/models/openpbr.h"
+#include "brdffit/models/openpbr_layers.h"
 #include "brdffit/models/oren_nayar.h"
 #include "brdffit/models/phong.h"
 #include "brdffit/models/principled.h"
@@ -88,6 +89,9 @@ const std::vector<std::unique_ptr<Model>>& all_models() {
     add<models::GltfClearcoatSheen>(list);
     add<models::GltfAnisotropy>(list);
     add<models::OpenPbr>(list);
+    add<models::OpenPbrCoat>(list);
+    add<models::OpenPbrFuzz>(list);
+    add<models::OpenPbrCoatFuzz>(list);
     add<models::Principled>(list);
     add<models::MitsubaPrincipled>(list);
     // Anisotropic (brushed metals, satins): each with its tangent frame's rotation phi0.
@@ -123,24 +127,50 @@ const Model* find_two_lobes(const std::string& name) {
 
 // Former names still accepted, and the model each now is.
 constexpr std::pair<const char*, const char*> kAliases[] = {{"gltf-clearcoat", "gltf+clearcoat"}};
-constexpr const char* kGltfExtensions[] = {"clearcoat", "sheen"};  // gltf+EXTENSION..., in the registered order
 
-// "gltf+E1+E2...": the extensions in any order (each once) name the model that registers them in
-// kGltfExtensions' order; "" when the name is no such list.
-std::string gltf_extensions_name(const std::string& name) {
-  const std::string prefix = std::string("gltf") + kLobeSeparator;
-  if (name.compare(0, prefix.size(), prefix) != 0) return "";
+// The renderer materials whose layers (extensions) are models of their own: BASE+E1+E2... with the
+// extensions in the order they are registered in (the order of `extensions` here).
+struct LayeredFamily {
+  const char* base;
+  std::vector<const char*> extensions;
+};
+const std::vector<LayeredFamily>& layered_families() {
+  static const std::vector<LayeredFamily> families = {{"gltf", {"clearcoat", "sheen", "anisotropy"}},
+                                                      {"openpbr", {"coat", "fuzz"}}};
+  return families;
+}
+
+// The family whose BASE+ begins `name`, or null.
+const LayeredFamily* layered_family_of(const std::string& name) {
+  for (const LayeredFamily& family : layered_families())
+    if (name.rfind(std::string(family.base) + kLobeSeparator, 0) == 0) return &family;
+  return nullptr;
+}
+
+// "BASE+E1+E2...": the extensions in any order (each once) name the model that registers them in
+// the family's order; "" when the name is no such list.
+std::string layered_name(const LayeredFamily& family, const std::string& name) {
   std::vector<std::string> given;
-  std::stringstream stream(name.substr(prefix.size()));
+  std::stringstream stream(name.substr(std::string(family.base).size() + 1));
   for (std::string part; std::getline(stream, part, kLobeSeparator);) given.push_back(part);
-  std::string canonical = "gltf";
+  std::string canonical = family.base;
   size_t found = 0;
-  for (const char* extension : kGltfExtensions) {
+  for (const char* extension : family.extensions) {
     const auto count = std::count(given.begin(), given.end(), extension);
     if (count > 1) return "";
     if (count == 1) canonical += kLobeSeparator + std::string(extension), ++found;
   }
   return found == given.size() ? canonical : "";
+}
+
+// The family's extensions and its models for a message: "clearcoat, sheen (gltf+clearcoat, ...)".
+std::string family_extensions(const LayeredFamily& family) {
+  std::string extensions, models;
+  for (const auto& m : all_models())
+    if (layered_family_of(m->name()) == &family) models += (models.empty() ? "" : ", ") + m->name();
+  for (const char* extension : family.extensions)
+    extensions += (extensions.empty() ? "" : ", ") + std::string(extension);
+  return extensions + " (" + models + ")";
 }
 }  // namespace
 
@@ -149,13 +179,14 @@ const Model* find_model(const std::string& name) {
   if (const Model* m = find_registered(name)) return m;
   for (const auto& [alias, model] : kAliases)
     if (name == alias) return find_registered(model);
-  if (const std::string canonical = gltf_extensions_name(name); !canonical.empty()) return find_registered(canonical);
+  if (const LayeredFamily* family = layered_family_of(name)) {
+    // A list of the family's layers that no model combines (gltf+clearcoat+anisotropy) is refused as a bad one.
+    if (const std::string canonical = layered_name(*family, name); !canonical.empty())
+      if (const Model* m = find_registered(canonical)) return m;
+    fail("model {}: {}'s layers are asked as {}+LAYER, each at most once, in any order, from: {}", name, family->base,
+         family->base, family_extensions(*family));
+  }
   if (name.find(kLobeSeparator) != std::string::npos) {
-    if (name.compare(0, 5, std::string("gltf") + kLobeSeparator) == 0)
-      fail(
-          "model {}: glTF's extensions are asked as gltf+EXTENSION, each at most once, from: clearcoat, sheen "
-          "(gltf+clearcoat, gltf+sheen, gltf+clearcoat+sheen)",
-          name);
     return find_two_lobes(name);
   }
   return nullptr;
@@ -211,7 +242,7 @@ std::vector<const Model*> parse_model_list(const std::string& list) {
       const bool known = closest_model_name(name).size() > 0;
       fail_usage(
           "--models: unknown model '{}'{} (known: {}; two lobes over one Lambert base: FIRST+SECOND, e.g. "
-          "ggx+ggx; glTF's extensions in any order: gltf+clearcoat+sheen)",
+          "ggx+ggx; a renderer material's layers in any order: gltf+clearcoat+sheen, openpbr+coat+fuzz)",
           name, known ? "; did you mean -m " + respelled + "?" : "", model_names());
     }
     if (std::find(models.begin(), models.end(), m) == models.end()) models.push_back(m);

@@ -87,6 +87,13 @@ const std::vector<std::string> kGltfAnisotropy = {"baseColor=0.8,0.5,0.25", "met
 const std::vector<std::string> kOpenPbr = {"base_color=0.7,0.4,0.2",     "base_metalness=0.2",
                                            "base_diffuse_roughness=0.3", "specular_color=1,0.8,0.6",
                                            "specular_roughness=0.35",    "specular_ior=1.6"};
+const std::vector<std::string> kOpenPbrCoat = {"coat_weight=0.6", "coat_color=0.9,0.8,0.7", "coat_roughness=0.2",
+                                               "coat_ior=1.7"};
+const std::vector<std::string> kOpenPbrFuzz = {"fuzz_weight=0.5", "fuzz_color=0.7,0.5,0.4", "fuzz_roughness=0.6"};
+std::vector<std::string> with(std::vector<std::string> a, const std::vector<std::string>& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
 const std::vector<std::string> kPrincipled = {
     "baseColor=0.6,0.3,0.1", "metallic=0.1", "subsurface=0.2", "specular=0.6",      "roughness=0.4",
     "specularTint=0.3",      "sheen=0.25",   "clearcoat=0.5",  "clearcoatGloss=0.7"};
@@ -491,11 +498,29 @@ TEST(ExportCli, RefusesPoorOrFailedVerdictsWithoutForce) {
 
 // The input names of OpenPBR Surface (specification's parameter reference) and of Mitsuba 3's
 // principled plugin.
-const std::set<std::string> kOpenPbrInputs = {
-    "base_weight",      "base_color",          "base_metalness",     "base_diffuse_roughness",
-    "specular_weight",  "specular_color",      "specular_roughness", "specular_roughness_anisotropy",
-    "specular_ior",     "transmission_weight", "coat_weight",        "fuzz_weight",
-    "thin_film_weight", "emission_luminance",  "geometry_opacity",   "subsurface_weight"};
+const std::set<std::string> kOpenPbrInputs = {"base_weight",
+                                              "base_color",
+                                              "base_metalness",
+                                              "base_diffuse_roughness",
+                                              "specular_weight",
+                                              "specular_color",
+                                              "specular_roughness",
+                                              "specular_roughness_anisotropy",
+                                              "specular_ior",
+                                              "transmission_weight",
+                                              "coat_weight",
+                                              "fuzz_weight",
+                                              "thin_film_weight",
+                                              "emission_luminance",
+                                              "geometry_opacity",
+                                              "subsurface_weight",
+                                              "coat_color",
+                                              "coat_roughness",
+                                              "coat_ior",
+                                              "coat_darkening",
+                                              "coat_roughness_anisotropy",
+                                              "fuzz_color",
+                                              "fuzz_roughness"};
 const std::set<std::string> kMitsubaPrincipledInputs = {"base_color",
                                                         "roughness",
                                                         "anisotropic",
@@ -604,41 +629,53 @@ TEST(ExportTools, MaterialXDefinesEveryInputTheMtlxWritesWithItsTypeAndRange) {
   for (auto& input : elements_of(nodedef, "input")) definition[input.at("name")] = input;
   ASSERT_GT(definition.size(), 30u);  // the whole nodedef was found, not a fragment
 
-  // The openpbr fit at both ends of every bound and in between.
+  // Each OpenPBR model's fit at both ends of every bound and in between: openpbr's inputs, the coat's
+  // and the fuzz's, all of them inputs of the nodedef with its types and within its ranges.
   const std::string dir = test::fresh_dir("export-materialx-nodedef");
-  const Model& openpbr = *find_model("openpbr");
-  std::vector<std::string> low, high;
-  for (const ParamSpec& p : openpbr.parameters()) {
-    low.push_back(fmt::format("{}={}", p.name, p.lower));
-    high.push_back(fmt::format("{}={}", p.name, p.upper));
-  }
-  for (const auto& [name, assignments] : {std::pair{"low", low}, std::pair{"mid", kOpenPbr}, std::pair{"high", high}}) {
-    SCOPED_TRACE(name);
-    const std::string doc =
-        test::write_document(dir + "/" + name + ".json", "/data/x.binary", {fit_of("openpbr", assignments)});
-    const auto run = test::run_cli("export " + doc + " --out " + dir + "/" + name + ".mtlx");
-    ASSERT_EQ(run.exit_code, 0) << run.output;
-    const std::string mtlx = read_file(dir + "/" + name + ".mtlx");
-    EXPECT_NE(mtlx.find("<materialx version=\"1.39\""), std::string::npos);  // the library's version
-    const size_t shader_begin = mtlx.find("<open_pbr_surface "), shader_end = mtlx.find("</open_pbr_surface>");
-    ASSERT_LT(shader_begin, shader_end);
-    const std::string shader = mtlx.substr(shader_begin, shader_end - shader_begin);
-    const auto inputs = elements_of(shader, "input");
-    EXPECT_EQ(inputs.size(), 9u);  // the model's six parameters and the three held inputs
-    for (const auto& input : inputs) {
-      const std::string& input_name = input.at("name");
-      SCOPED_TRACE(input_name);
-      ASSERT_TRUE(definition.count(input_name)) << "not an input of ND_open_pbr_surface_surfaceshader";
-      const auto& defined = definition.at(input_name);
-      EXPECT_EQ(input.at("type"), defined.at("type"));
-      const std::vector<double> value = numbers_in(input.at("value"));
-      ASSERT_EQ(value.size(), input.at("type") == "color3" ? 3u : 1u);
-      for (const auto& [bound, below] : {std::pair{"uimin", true}, std::pair{"uimax", false}}) {
-        if (!defined.count(bound)) continue;  // e.g. specular_ior has only a soft maximum
-        const std::vector<double> limit = numbers_in(defined.at(bound));
-        ASSERT_EQ(limit.size(), value.size()) << defined.at(bound);
-        for (size_t c = 0; c < value.size(); ++c)
-          EXPECT_TRUE(below ? value[c] >= limit[c] : value[c] <= limit[c]) << bound << " " << defined.at(bound);
+  const std::map<std::string, std::vector<std::string>> middle = {
+      {"openpbr", kOpenPbr},
+      {"openpbr+coat", with(kOpenPbr, kOpenPbrCoat)},
+      {"openpbr+fuzz", with(kOpenPbr, kOpenPbrFuzz)},
+      {"openpbr+coat+fuzz", with(with(kOpenPbr, kOpenPbrCoat), kOpenPbrFuzz)}};
+  for (const auto& [model_name, middle_values] : middle) {
+    const Model& model = *find_model(model_name);
+    std::vector<std::string> low, high;
+    for (const ParamSpec& p : model.parameters()) {
+      low.push_back(fmt::format("{}={}", p.name, p.lower));
+      high.push_back(fmt::format("{}={}", p.name, p.upper));
+    }
+    // The model's parameters, the three held inputs of the base and the coat's two.
+    const size_t held = model.find_parameter("coat_weight") ? 5 : 3;
+    for (const auto& [bound_name, assignments] :
+         {std::pair{"low", low}, std::pair{"mid", middle_values}, std::pair{"high", high}}) {
+      const std::string name = std::to_string(model.num_values()) + "-" + bound_name;
+      SCOPED_TRACE(model_name + " " + bound_name);
+      const std::string doc =
+          test::write_document(dir + "/" + name + ".json", "/data/x.binary", {fit_of(model_name, assignments)});
+      const auto run = test::run_cli("export " + doc + " -m " + model_name + " --out " + dir + "/" + name + ".mtlx");
+      ASSERT_EQ(run.exit_code, 0) << run.output;
+      const std::string mtlx = read_file(dir + "/" + name + ".mtlx");
+      EXPECT_NE(mtlx.find("<materialx version=\"1.39\""), std::string::npos);  // the library's version
+      const size_t shader_begin = mtlx.find("<open_pbr_surface "), shader_end = mtlx.find("</open_pbr_surface>");
+      ASSERT_LT(shader_begin, shader_end);
+      const std::string shader = mtlx.substr(shader_begin, shader_end - shader_begin);
+      const auto inputs = elements_of(shader, "input");
+      EXPECT_EQ(inputs.size(), model.parameters().size() + held);
+      for (const auto& input : inputs) {
+        const std::string& input_name = input.at("name");
+        SCOPED_TRACE(input_name);
+        ASSERT_TRUE(definition.count(input_name)) << "not an input of ND_open_pbr_surface_surfaceshader";
+        const auto& defined = definition.at(input_name);
+        EXPECT_EQ(input.at("type"), defined.at("type"));
+        const std::vector<double> value = numbers_in(input.at("value"));
+        ASSERT_EQ(value.size(), input.at("type") == "color3" ? 3u : 1u);
+        for (const auto& [bound, below] : {std::pair{"uimin", true}, std::pair{"uimax", false}}) {
+          if (!defined.count(bound)) continue;  // e.g. specular_ior has only a soft maximum
+          const std::vector<double> limit = numbers_in(defined.at(bound));
+          ASSERT_EQ(limit.size(), value.size()) << defined.at(bound);
+          for (size_t c = 0; c < value.size(); ++c)
+            EXPECT_TRUE(below ? value[c] >= limit[c] : value[c] <= limit[c]) << bound << " " << defined.at(bound);
+        }
       }
     }
   }

@@ -121,12 +121,17 @@ TEST(TwoLobes, GltfExtensionNamesAreModelsNotLobes) {
   EXPECT_EQ(find_model("gltf+sheen+clearcoat"), both);
   EXPECT_EQ(both->num_values(), 11);
   EXPECT_NE(find_model("gltf+anisotropy")->find_parameter("anisotropyStrength"), nullptr);
-  for (const std::string name : {"gltf+sheen+sheen", "gltf+ggx", "gltf+sheen+iridescence"}) {
+  // A layer twice, an unknown one, and known ones that no model combines.
+  for (const std::string name :
+       {"gltf+sheen+sheen", "gltf+ggx", "gltf+sheen+iridescence", "gltf+anisotropy+clearcoat"}) {
     try {
       find_model(name);
       ADD_FAILURE() << name;
     } catch (const Error& e) {
-      EXPECT_NE(std::string(e.what()).find("from: clearcoat, sheen"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("from: clearcoat, sheen, anisotropy (gltf+clearcoat, gltf+sheen, "
+                                           "gltf+clearcoat+sheen, gltf+anisotropy)"),
+                std::string::npos)
+          << e.what();
     }
   }
   EXPECT_EQ(parse_model_list("gltf,gltf-clearcoat,gltf+clearcoat,gltf+sheen").size(), 3u) << "an alias is its model";

@@ -6,7 +6,9 @@
 //                           `gltf+clearcoat`, `gltf+sheen` or `gltf+clearcoat+sheen` fit (with
 //                           KHR_materials_clearcoat, KHR_materials_sheen or both), on a small
 //                           sphere mesh so that any viewer shows it;
-//   OpenPBR (.mtlx)         the `openpbr` fit as a MaterialX document with an open_pbr_surface;
+//   OpenPBR (.mtlx)         the `openpbr` fit, or the `openpbr+coat`, `openpbr+fuzz` or
+//                           `openpbr+coat+fuzz` fit (with its coat and fuzz inputs), as a MaterialX
+//                           document with an open_pbr_surface;
 //   Mitsuba 3 (.xml)        the `mitsuba-principled` fit as Mitsuba's `principled` BSDF (the model is
 //                           what that plugin evaluates; anisotropic 0 as held).
 // Any other renderer model's fit, or a ggx fit, can be converted instead: the materials share a
@@ -147,8 +149,9 @@ std::string material_format_list(const char* MaterialFormatInfo::*field);
 constexpr uint64_t kMaxMaterialFileBytes = uint64_t{16} << 20;
 
 // Materials read back from a .gltf, .mtlx or Mitsuba .xml file, each as the matching model
-// (gltf, gltf-specular, gltf+clearcoat, gltf+sheen or gltf+clearcoat+sheen, openpbr, mitsuba-principled). Inputs the
-// model does not have (textures, coat, ...) or holds fixed are reported in `warnings`. Throws Error naming the file
+// (gltf, gltf-specular, gltf+clearcoat, gltf+sheen or gltf+clearcoat+sheen; openpbr, openpbr+coat, openpbr+fuzz or
+// openpbr+coat+fuzz, the smallest holding the layers whose weight is not 0; mitsuba-principled). Inputs the model does
+// not have (textures, transmission, ...) or holds fixed are reported in `warnings`. Throws Error naming the file
 // when it is not one of these formats, is larger than kMaxMaterialFileBytes or holds no material. Time and memory are
 // linear in the file's size.
 std::vector<Material> read_materials(const std::string& path, std::vector<std::string>& warnings);

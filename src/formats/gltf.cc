@@ -379,13 +379,16 @@ std::vector<Material> read_gltf(const std::string& path, std::vector<std::string
   return materials;
 }
 
-// A fit of another model becomes gltf, unless its dielectric is not the core's (IOR 1.5, weight 1,
-// no tint), which only gltf-specular's KHR_materials_ior and KHR_materials_specular hold.
+// A fit of another model becomes gltf, with the clear coat and sheen of an openpbr+coat or +fuzz
+// source (material_convert.h), unless its dielectric is not the core's (IOR 1.5, weight 1, no
+// tint), which only gltf-specular's KHR_materials_ior and KHR_materials_specular hold (without
+// layers: no model holds both).
 std::string gltf_conversion_target(const std::string& source_model, const std::vector<double>& values) {
   const Core core = core_of(source_model, values);
   const bool core_dielectric =
       std::abs(core.ior - 1.5) < 1e-9 && core.specular_weight == 1.0 && core.specular_color == Rgb<double>::Ones();
-  return core_dielectric ? "gltf" : "gltf-specular";
+  if (!core_dielectric) return "gltf-specular";
+  return std::string("gltf") + (core.coat.weight > 0.0 ? "+clearcoat" : "") + (core.sheen.weight > 0.0 ? "+sheen" : "");
 }
 
 std::string write_gltf(const Material& material, const MaterialProvenance& provenance) {

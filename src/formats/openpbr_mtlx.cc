@@ -1,5 +1,6 @@
-// OpenPBR Surface as a MaterialX document (.mtlx): the openpbr model as an open_pbr_surface,
-// written and read back (material_export.h).
+// OpenPBR Surface as a MaterialX document (.mtlx): the openpbr model and its layered forms
+// (openpbr+coat, openpbr+fuzz, openpbr+coat+fuzz) as an open_pbr_surface, written and read back
+// (material_export.h).
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -7,6 +8,8 @@
 #include <map>
 
 #include "brdffit/error.h"
+#include "brdffit/io.h"
+#include "brdffit/material_convert.h"
 #include "brdffit/material_export.h"
 #include "brdffit/material_formats.h"
 #include "brdffit/registry.h"
@@ -16,13 +19,15 @@
 namespace brdffit {
 
 std::string materialx_document(const Material& material, const std::string& comment) {
-  if (material.model != "openpbr") fail("MaterialX holds an openpbr material, not {}", material.model);
+  if (!is_openpbr_model(material.model))
+    fail("MaterialX holds an {} material, not {}", join_words(openpbr_models(), "or"), material.model);
   const Model& model = *find_model(material.model);
+  const bool coated = model.find_parameter("coat_weight") != nullptr;
   const std::string name = xml_name(material.name);
   std::string xml = "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n";
-  xml += "<!-- " + xml_comment_text(comment) +
-         "\n     base_weight, specular_weight and specular_roughness_anisotropy: as brdffit's openpbr model holds "
-         "them. -->\n";
+  xml += "<!-- " + xml_comment_text(comment) + "\n     base_weight, specular_weight and specular_roughness_anisotropy" +
+         (coated ? ", coat_roughness_anisotropy and coat_darkening" : "") + ": as brdffit's " + material.model +
+         " model holds them. -->\n";
   xml += "<materialx version=\"1.39\" colorspace=\"lin_rec709\">\n";
   xml += fmt::format("  <open_pbr_surface name=\"{}_shader\" type=\"surfaceshader\">\n", name);
   xml += "    <input name=\"base_weight\" type=\"float\" value=\"1\" />\n";
@@ -38,6 +43,10 @@ std::string materialx_document(const Material& material, const std::string& comm
   }
   xml += "    <input name=\"specular_weight\" type=\"float\" value=\"1\" />\n";
   xml += "    <input name=\"specular_roughness_anisotropy\" type=\"float\" value=\"0\" />\n";
+  if (coated) {
+    xml += "    <input name=\"coat_roughness_anisotropy\" type=\"float\" value=\"0\" />\n";
+    xml += "    <input name=\"coat_darkening\" type=\"float\" value=\"1\" />\n";
+  }
   xml += "  </open_pbr_surface>\n";
   xml += fmt::format("  <surfacematerial name=\"{}\" type=\"material\">\n", name);
   xml += fmt::format("    <input name=\"surfaceshader\" type=\"surfaceshader\" nodename=\"{}_shader\" />\n", name);
@@ -77,10 +86,41 @@ void fold_base_weight(const Model& model, Material& material, double w, const st
         path, w, material.name, sigma, 100.0 * worst));
 }
 
+// The inputs of one open_pbr_surface that hold a value: name → numbers. One connected to a node is
+// reported and left out.
+std::map<std::string, std::vector<double>> shader_inputs(const std::vector<XmlElement>& elements, int shader,
+                                                         const std::string& material, const std::string& path,
+                                                         std::vector<std::string>& warnings) {
+  std::map<std::string, std::vector<double>> inputs;
+  for (const int k : elements[shader].children) {
+    if (elements[k].tag != "input") continue;
+    const std::string name = attribute(elements[k], "name");
+    if (!attribute(elements[k], "nodename").empty() || !attribute(elements[k], "nodegraph").empty()) {
+      warnings.push_back(
+          fmt::format("{}: {} of '{}' is connected to a node: left at its default", path, name, material));
+      continue;
+    }
+    inputs[name] = parse_numbers(attribute(elements[k], "value"), name, path);
+  }
+  return inputs;
+}
+
+// The smallest of openpbr, openpbr+coat, openpbr+fuzz and openpbr+coat+fuzz that holds a shader's
+// layers: those whose weight is given and not 0 (OpenPBR's default weights are 0).
+const Model& model_holding(const std::map<std::string, std::vector<double>>& inputs) {
+  const auto present = [&](const char* weight) {
+    const auto it = inputs.find(weight);
+    return it != inputs.end() && it->second[0] != 0.0;
+  };
+  std::string name = "openpbr";
+  if (present("coat_weight")) name += "+coat";
+  if (present("fuzz_weight")) name += "+fuzz";
+  return *find_model(name);
+}
+
 std::vector<Material> read_materialx(const std::string& path, std::vector<std::string>& warnings) {
   const std::vector<XmlElement> elements = parse_xml(read_material_file(path), path);
   if (elements.empty() || elements[0].tag != "materialx") fail("{}: not a MaterialX document (<materialx>)", path);
-  const Model& model = *find_model("openpbr");
   // Materials are named by the surfacematerial that uses a shader, or by the shader itself.
   std::map<std::string, std::string> material_of_shader;
   for (size_t i = 0; i < elements.size(); ++i)
@@ -92,40 +132,57 @@ std::vector<Material> read_materialx(const std::string& path, std::vector<std::s
     if (elements[i].tag != "open_pbr_surface") continue;
     const std::string shader = attribute(elements[i], "name");
     const auto named = material_of_shader.find(shader);
-    Material material{named != material_of_shader.end() ? named->second : shader, model.name(), model.default_values()};
+    const std::string material_name = named != material_of_shader.end() ? named->second : shader;
+    const std::map<std::string, std::vector<double>> inputs =
+        shader_inputs(elements, static_cast<int>(i), material_name, path, warnings);
+    const Model& model = model_holding(inputs);
+    Material material{material_name, model.name(), model.default_values()};
     // The specification's defaults where an input is absent (they differ from the fit's starts).
+    // coat_roughness's, 0, is below the model's bound: clamped, with a warning when the coat is on.
     set_parameter(model, material, "base_color", {0.8}, path, warnings);
     set_parameter(model, material, "specular_roughness", {0.3}, path, warnings);
+    if (model.find_parameter("coat_roughness") && !inputs.count("coat_roughness"))
+      set_parameter(model, material, "coat_roughness", {0.0}, path, warnings);
     double base_weight = 1.0, specular_weight = 1.0;
-    for (const int k : elements[i].children) {
-      if (elements[k].tag != "input") continue;
-      const std::string name = attribute(elements[k], "name");
-      if (!attribute(elements[k], "nodename").empty() || !attribute(elements[k], "nodegraph").empty()) {
-        warnings.push_back(
-            fmt::format("{}: {} of '{}' is connected to a node: left at its default", path, name, material.name));
-        continue;
-      }
-      const std::vector<double> value = parse_numbers(attribute(elements[k], "value"), name, path);
+    for (const auto& [name, value] : inputs) {
       if (name == "base_weight")
         base_weight = value[0];
       else if (name == "specular_weight")
         specular_weight = value[0];
       else if (model.find_parameter(name))
         set_parameter(model, material, name, value, path, warnings);
-      else if (name == "specular_roughness_anisotropy" && value[0] != 0.0)
-        warnings.push_back(fmt::format("{}: specular_roughness_anisotropy {} of '{}' is held at 0 by the openpbr model",
-                                       path, value[0], material.name));
-      else if (value.size() == 1 && value[0] != 0.0 && name.find("weight") != std::string::npos)
-        warnings.push_back(fmt::format("{}: {} = {} of '{}' is outside the opaque base brdffit's openpbr model has",
-                                       path, name, value[0], material.name));
+      else if ((name == "specular_roughness_anisotropy" || name == "coat_roughness_anisotropy") && value[0] != 0.0)
+        warnings.push_back(fmt::format("{}: {} {} of '{}' is held at 0 by the {} model", path, name, value[0],
+                                       material.name, model.name()));
+      else if (name == "coat_darkening" && value[0] != 1.0 && model.find_parameter("coat_weight"))
+        warnings.push_back(fmt::format("{}: coat_darkening {} of '{}' is held at 1 by the {} model", path, value[0],
+                                       material.name, model.name()));
+      else if (value.size() == 1 && value[0] != 0.0 && name.find("weight") != std::string::npos &&
+               name != "coat_weight" && name != "fuzz_weight")
+        warnings.push_back(
+            fmt::format("{}: {} = {} of '{}' is outside the opaque base, coat and fuzz brdffit's "
+                        "OpenPBR models have",
+                        path, name, value[0], material.name));
     }
     fold_base_weight(model, material, std::clamp(base_weight, 0.0, 1.0), path, warnings);
+    if (model.find_parameter("coat_weight") && base_weight != 1.0)
+      warnings.push_back(
+          fmt::format("{}: base_weight {} of '{}' is folded into base_color, which the coat's darkening "
+                      "reads too (MaterialX's darkening reads base_color alone)",
+                      path, base_weight, material.name));
     if (specular_weight != 1.0)
-      warnings.push_back(fmt::format("{}: specular_weight {} of '{}' is held at 1 by the openpbr model: not scored",
-                                     path, specular_weight, material.name));
+      warnings.push_back(fmt::format("{}: specular_weight {} of '{}' is held at 1 by the {} model: not scored", path,
+                                     specular_weight, material.name, model.name()));
     materials.push_back(std::move(material));
   }
   return materials;
+}
+
+// A fit of another model becomes the OpenPBR model with the layers its core has (material_convert.h):
+// gltf+clearcoat's coat, gltf+sheen's sheen as the fuzz.
+std::string openpbr_conversion_target(const std::string& source_model, const std::vector<double>& values) {
+  const Core core = core_of(source_model, values);
+  return std::string("openpbr") + (core.coat.weight > 0.0 ? "+coat" : "") + (core.sheen.weight > 0.0 ? "+fuzz" : "");
 }
 
 std::string write_materialx(const Material& material, const MaterialProvenance& provenance) {
@@ -135,9 +192,8 @@ std::string write_materialx(const Material& material, const MaterialProvenance& 
 }  // namespace
 
 MaterialFormatInfo openpbr_format() {
-  return {MaterialFormat::OpenPbr, "openpbr",          "OpenPBR (MaterialX)", ".mtlx",
-          ".mtlx (OpenPBR)",       "open_pbr_surface", {"openpbr"},           nullptr,
-          write_materialx,         read_materialx};
+  return {MaterialFormat::OpenPbr, "openpbr",        "OpenPBR (MaterialX)",     ".mtlx",         ".mtlx (OpenPBR)",
+          "open_pbr_surface",      openpbr_models(), openpbr_conversion_target, write_materialx, read_materialx};
 }
 
 }  // namespace brdffit
