@@ -19,6 +19,8 @@
 // (specular = 0) does contain lambert exactly.
 #pragma once
 
+#include <type_traits>
+
 #include "brdffit/model.h"
 #include "brdffit/models/common.h"
 #include "brdffit/models/microfacet.h"
@@ -29,14 +31,17 @@ namespace brdffit::models {
 // Smith V), for l and v above the surface; KHR_materials_clearcoat's lobe is this one.
 template <class T>
 T gltf_specular_vd(const T& roughness, const Vec3& l, const Vec3& v) {
-  using std::sqrt;
   const double nl = l.z(), nv = v.z(), nh = half_vector(l, v).z();
-  const T alpha = roughness * roughness, alpha2 = alpha * alpha;
-  const T denom = nh * nh * (alpha2 - 1.0) + 1.0;
-  const T d = nh > 0.0 ? T(alpha2 / (kPi * denom * denom)) : T(0.0);
-  const T vis =
-      1.0 / (2.0 * (nv * sqrt(alpha2 + (1.0 - alpha2) * (nl * nl)) + nl * sqrt(alpha2 + (1.0 - alpha2) * (nv * nv))));
-  return vis * d;
+  return of_one_parameter(roughness, [&](const auto& r) {
+    using R = std::decay_t<decltype(r)>;
+    using std::sqrt;
+    const R alpha = r * r, alpha2 = alpha * alpha;
+    const R denom = nh * nh * (alpha2 - 1.0) + 1.0;
+    const R d = nh > 0.0 ? R(alpha2 / (kPi * denom * denom)) : R(0.0);
+    const R vis =
+        1.0 / (2.0 * (nv * sqrt(alpha2 + (1.0 - alpha2) * (nl * nl)) + nl * sqrt(alpha2 + (1.0 - alpha2) * (nv * nv))));
+    return R(vis * d);
+  });
 }
 
 // The metallic-roughness BRDF with the dielectric Fresnel of KHR_materials_specular

@@ -71,11 +71,14 @@ T sheen_charlie_lambda(double mu, const T& alpha) {
 // D_S·V_S for l and v above the surface (sheenColor 1).
 template <class T>
 T sheen_charlie_dv(const T& sheen_roughness, const Vec3& l, const Vec3& v) {
-  const double nl = l.z(), nv = v.z();
-  const T alpha = sheen_roughness * sheen_roughness;
-  const T visibility =
-      1.0 / ((1.0 + sheen_charlie_lambda(nv, alpha) + sheen_charlie_lambda(nl, alpha)) * (4.0 * nv * nl));
-  return sheen_charlie_d(sheen_roughness, half_vector(l, v).z()) * visibility;
+  const double nl = l.z(), nv = v.z(), nh = half_vector(l, v).z();
+  return of_one_parameter(sheen_roughness, [&](const auto& r) {
+    using R = std::decay_t<decltype(r)>;
+    const R alpha = r * r;
+    const R visibility =
+        1.0 / ((1.0 + sheen_charlie_lambda(nv, alpha) + sheen_charlie_lambda(nl, alpha)) * (4.0 * nv * nl));
+    return R(sheen_charlie_d(r, nh) * visibility);
+  });
 }
 
 // E(μ, sheenRoughness), the directional albedo of D_S·V_S, tabulated once (see the head of this file).
@@ -188,9 +191,12 @@ Rgb<T> gltf_sheen_layer(const Rgb<T>& material, const T* sheen_color, const T& s
   T strongest = sheen_color[0];  // max3(sheenColor)
   for (int c = 1; c < 3; ++c)
     if (sheen_color[c] > strongest) strongest = sheen_color[c];
-  const T scaling_v = 1.0 - strongest * albedo(v.z(), sheen_roughness),
-          scaling_l = 1.0 - strongest * albedo(l.z(), sheen_roughness);
-  const T scaling = scaling_v < scaling_l ? scaling_v : scaling_l;
+  // min(1 - s·E(n·v), 1 - s·E(n·l)) = 1 - s·max(E(n·v), E(n·l)) for s = max3(sheenColor) ≥ 0.
+  const T larger_albedo = of_one_parameter(sheen_roughness, [&](const auto& r) {
+    const auto albedo_v = albedo(v.z(), r), albedo_l = albedo(l.z(), r);
+    return albedo_v > albedo_l ? albedo_v : albedo_l;
+  });
+  const T scaling = 1.0 - strongest * larger_albedo;
   const T sheen = sheen_charlie_dv(sheen_roughness, l, v);
   Rgb<T> f;
   for (int c = 0; c < 3; ++c) f[c] = sheen_color[c] * sheen + material[c] * scaling;
