@@ -94,7 +94,12 @@ MaterialExport export_material(const FitDocument& document, const ExportRequest&
   out.source_model = fit->model;
   if (!fit->ok) fail("{}: the {} fit failed ({}): nothing to export", document.path, fit->model, fit->error);
   if (fit->verdict != Verdict::Good) {
-    const std::string why = fit->warnings.empty() ? "" : " (" + fit->warnings.front() + ")";
+    // The reason is the first "poor fit" warning: notes come before it (an isotropic form's).
+    const auto poor = std::find_if(fit->warnings.begin(), fit->warnings.end(),
+                                   [](const std::string& w) { return w.rfind("poor fit", 0) == 0; });
+    const std::string why = poor != fit->warnings.end() ? " (" + *poor + ")"
+                            : fit->warnings.empty()     ? ""
+                                                        : " (" + fit->warnings.front() + ")";
     if (!request.force)
       fail("{}: the {} fit's verdict is {}{}; it does not describe the measurement. Export it anyway with --force",
            document.path, fit->model, verdict_name(fit->verdict), why);

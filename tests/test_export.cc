@@ -479,6 +479,15 @@ TEST(ExportCli, RefusesPoorOrFailedVerdictsWithoutForce) {
   ASSERT_EQ(forced.exit_code, 0) << forced.output;
   EXPECT_NE(forced.output.find("warning: the gltf fit's verdict is poor"), std::string::npos) << forced.output;
   EXPECT_TRUE(std::filesystem::exists(dir + "/poor.gltf"));
+  // The reason given is the "poor fit" warning, not a note before it (an isotropic form's).
+  FitResult noted = fit_of("gltf+anisotropy", {"baseColor=0.5"});
+  noted.verdict = Verdict::Poor;
+  noted.warnings = {"isotropic data: gltf+anisotropy was fitted in its isotropic form, gltf",
+                    "poor fit: a typical sample is off by 101% of its own value"};
+  const std::string noted_doc = test::write_document(dir + "/noted.json", "/data/noted.binary", {noted});
+  test::expect_cli_errors({{"export " + noted_doc + " -m gltf+anisotropy --out " + dir + "/noted.gltf",
+                            "the gltf+anisotropy fit's verdict is poor (poor fit: a typical sample is off by 101%"}},
+                          dir + "/noted.gltf");
 
   FitResult failed = fit_of("openpbr", {});
   failed.ok = false;
