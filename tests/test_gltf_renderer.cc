@@ -53,7 +53,8 @@
 // roughness 0.3 over the gltf material: the coat dims the base and its departures by 1 - c·F_c; three.js against
 // the departures written in, 0.04 % for each), gltf+sheen 9.5 % (sheen [0.9, 0.6, 0.5] at roughness 0.5 over the gltf
 // material: Neubelt's visibility and three.js's E against Charlie's; three.js against the departures, 0.03 %),
-// gltf+anisotropy 1.9 % (strength 0.6 turned by 0.4 rad over a metallic 0.7 material; against the departures, 0.09 %).
+// gltf+clearcoat+sheen 9.4 % (that sheen under that coat; against the departures, 0.03 %), gltf+anisotropy 1.9 %
+// (strength 0.6 turned by 0.4 rad over a metallic 0.7 material; against the departures, 0.09 %).
 // The fits of the shared MERL proxies (MerlFits, below) differ by more: gltf 2.5 % (blue-acrylic), 10.4 %
 // (gold-metallic-paint, a rough metal) and 4.1 % (red-fabric); gltf-specular 0.11 %, gltf+clearcoat 2.4 %
 // (blue-acrylic); gltf+sheen 12.1 % (gold-metallic-paint). The departures account for all of it but
@@ -356,6 +357,14 @@ GltfMaterial sheen_material() {
   return m;
 }
 
+// Both layers: the coat over the sheen, as KHR_materials_sheen layers them.
+GltfMaterial clearcoat_sheen_material() {
+  GltfMaterial m = sheen_material();
+  m.clearcoat = 0.7;
+  m.clearcoat_roughness = 0.3;
+  return m;
+}
+
 GltfMaterial anisotropic_material() {
   GltfMaterial m{{0.8, 0.5, 0.25}, 0.7, 0.3};
   m.anisotropy_strength = 0.6;
@@ -400,6 +409,12 @@ INSTANTIATE_TEST_SUITE_P(Export, ThreeJs,
                                                         {"baseColor=0.8,0.5,0.25", "metallic=0.3", "roughness=0.45",
                                                          "sheenColorFactor=0.9,0.6,0.5", "sheenRoughnessFactor=0.5"},
                                                         sheen_material(),
+                                                        "MeshPhysicalMaterial"},
+                                           RendererCase{"gltf+clearcoat+sheen",
+                                                        {"baseColor=0.8,0.5,0.25", "metallic=0.3", "roughness=0.45",
+                                                         "clearcoatFactor=0.7", "clearcoatRoughnessFactor=0.3",
+                                                         "sheenColorFactor=0.9,0.6,0.5", "sheenRoughnessFactor=0.5"},
+                                                        clearcoat_sheen_material(),
                                                         "MeshPhysicalMaterial"},
                                            RendererCase{"gltf+anisotropy",
                                                         {"baseColor=0.8,0.5,0.25", "metallic=0.7", "roughness=0.3",
