@@ -245,9 +245,8 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
     polish = polish && from && from->values == best.values;
     // A candidate that came from a run starts with the values that run held on their bounds.
     const Refinement* earlier = !options.single_start && from && from->iterations > 0 ? from : nullptr;
-    Refinement r =
-        on_all.run(start, polish ? std::min(options.polish_iterations, options.max_iterations) : options.max_iterations,
-                   1e-6, 0.0, earlier);
+    Refinement r = polish ? on_all.polish(*from, std::min(options.polish_iterations, options.max_iterations))
+                          : on_all.run(start, options.max_iterations, 1e-6, 0.0, earlier);
     fit.iterations += r.iterations;
     clock.lap("all samples");
     if (polish && r.usable && r.iterations >= options.polish_iterations)

@@ -144,6 +144,11 @@ class LeastSquares {
   Refinement run(const std::vector<double>& start, int max_iterations, double function_tolerance = 1e-10,
                  double trust_region_radius = 0.0, const Refinement* earlier = nullptr) const;
 
+  // At most `steps` steps from the end of a run on other samples (the largest importance subset's
+  // optimum, on all samples), with the values that run held. The bounds are not looked at again:
+  // each look costs a gradient on these samples, and a few steps cannot crawl along one.
+  Refinement polish(const Refinement& from, int steps) const;
+
   // Fills r.covariance and r.identifiable at r.values.
   void estimate_covariance(Refinement& r) const;
 
@@ -152,14 +157,23 @@ class LeastSquares {
   std::vector<int> free_values() const;
 
  private:
+  // How a solve ended: where a value it moved reached a bound (RunMonitor, least_squares.cc),
+  // the steps it tried and those it took.
+  struct SolveEnd {
+    bool reached_bound = false;
+    int steps_tried = 0;
+    int successful_steps = 0;
+  };
   // Runs Ceres from r.values with the values r.held held, and puts its result in r (its
   // iterations added to r's).
-  void solve(Refinement& r, int max_iterations, double function_tolerance, double trust_region_radius) const;
+  SolveEnd solve(Refinement& r, int max_iterations, double function_tolerance, double trust_region_radius) const;
 
   // The free values (indices into the model's values) on a bound with the cost's gradient pointing
   // out of the box at r.values; none when that would be every free value. One gradient evaluation,
   // and none when no free value is on a bound.
   std::vector<int> held_on_bounds(const Refinement& r) const;
+  // The free values on a bound at r.values.
+  std::vector<int> on_bounds(const Refinement& r) const;
 
   // One residual block per batch of samples over the free values x, with the bounds.
   void build_problem(Refinement& r, std::vector<double>& x, ceres::Problem& problem) const;
