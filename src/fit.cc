@@ -85,11 +85,20 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
     // material: the first misses it when the shape is in the colours (sgd's are all colours),
     // the second, with fewer points per parameter, misses it on some tables (openpbr on
     // paper_white, 0.0471 against 0.0313).
+    //
+    // The grids only rank coarse starts, which a third of the subsample does as well (on the
+    // MERL proxies and a baked table every error but two came out the same, for a tenth to a
+    // fifth of every model's time: docs/performance.md); the points kept are costed again on the
+    // subsample, where the search and the refinements go on.
     const size_t keep_best = static_cast<size_t>(std::max(1, options.starts));
+    const std::vector<Sample> grid_samples =
+        small_is_all ? small : importance_subset(data.samples, options.subsample / 3, options.seed);
     for (bool colours : {false, true}) {
       if (colours && !has_non_linear_colour(model)) break;
-      std::vector<Start> grid = grid_starts(model, initial, small, options.metric, channels, options, colours);
+      std::vector<Start> grid = grid_starts(model, initial, grid_samples, options.metric, channels, options, colours);
       grid.resize(std::min(grid.size(), keep_best));
+      if (!small_is_all)
+        for (Start& point : grid) point.cost = solved_cost(model, point.values, small, options.metric, channels);
       // Both grids hold the defaults; a model whose shape is all colours (sgd) has nothing else
       // in the first. The same point searched twice cost sgd a fifth of its fit.
       for (Start& point : grid)
