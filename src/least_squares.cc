@@ -61,6 +61,7 @@ class RunMonitor : public ceres::IterationCallback {
       best_x_ = x_;
       steps_without_progress_ = 0;
     } else if (at_x && ++steps_without_progress_ >= kMaxStepsWithoutProgress) {
+      stopped_without_progress_ = true;
       return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
     }
     for (size_t k = 0; k < x_.size(); ++k)
@@ -71,6 +72,7 @@ class RunMonitor : public ceres::IterationCallback {
     return ceres::SOLVER_CONTINUE;
   }
   bool reached_bound() const { return reached_bound_; }
+  bool stopped_without_progress() const { return stopped_without_progress_; }
   int successful_steps() const { return successful_steps_; }
   double best_cost() const { return best_cost_; }
   const std::vector<double>& best_x() const { return best_x_; }
@@ -79,7 +81,7 @@ class RunMonitor : public ceres::IterationCallback {
   const std::vector<double>& x_;
   std::vector<bool> watched_;
   std::vector<double> lower_, upper_;
-  bool reached_bound_ = false;
+  bool reached_bound_ = false, stopped_without_progress_ = false;
   double best_cost_ = HUGE_VAL;
   std::vector<double> best_x_;
   int steps_without_progress_ = 0;
@@ -228,7 +230,9 @@ LeastSquares::SolveEnd LeastSquares::solve(Refinement& r, int max_iterations, do
   r.cost = summary.final_cost;
   r.iterations += static_cast<int>(summary.iterations.size()) - 1;
   if (!summary.iterations.empty()) r.trust_region_radius = summary.iterations.back().trust_region_radius;
-  r.termination = std::string(ceres::TerminationTypeToString(summary.termination_type)) + ": " + summary.message;
+  r.termination = monitor.stopped_without_progress()
+                      ? fmt::format("no better point in the last {} steps", RunMonitor::kMaxStepsWithoutProgress)
+                      : std::string(ceres::TerminationTypeToString(summary.termination_type)) + ": " + summary.message;
   r.usable = summary.termination_type != ceres::FAILURE && summary.termination_type != ceres::USER_FAILURE &&
              std::isfinite(summary.final_cost) &&
              std::all_of(x.begin(), x.end(), [](double v) { return std::isfinite(v); });
