@@ -19,8 +19,15 @@ double at_fraction(const ParamSpec& p, double t) {
   return p.integer ? std::round(value) : value;
 }
 
-// Candidate values for one shape parameter: n points spread over its range (log-spaced for
-// exponents and roughness), or every integer for integer parameters.
+// The i-th point (from 1) of the Halton sequence in base `base`: a low-discrepancy coordinate in (0, 1).
+double halton(size_t i, int base) {
+  double value = 0.0, digit = 1.0 / base;
+  for (; i > 0; i /= base, digit /= base) value += digit * static_cast<double>(i % base);
+  return value;
+}
+
+}  // namespace
+
 std::vector<double> grid_axis(const ParamSpec& p, int n) {
   std::vector<double> axis;
   if (p.integer) {
@@ -32,15 +39,6 @@ std::vector<double> grid_axis(const ParamSpec& p, int n) {
   for (int k = 0; k < n; ++k) axis.push_back(at_fraction(p, (k + 0.5) / n));
   return axis;
 }
-
-// The i-th point (from 1) of the Halton sequence in base `base`: a low-discrepancy coordinate in (0, 1).
-double halton(size_t i, int base) {
-  double value = 0.0, digit = 1.0 / base;
-  for (; i > 0; i /= base, digit /= base) value += digit * static_cast<double>(i % base);
-  return value;
-}
-
-}  // namespace
 
 double solved_cost(const Model& model, std::vector<double>& values, const std::vector<Sample>& samples, Metric metric,
                    const Channels& channels) {
@@ -131,35 +129,62 @@ void SolvedCosts::add(const Start& point) { known_.emplace(shape_of(point.values
 Start coordinate_search(const Model& model, Start start, const std::vector<Sample>& samples, Metric metric,
                         const Channels& channels, const FitOptions& options, SolvedCosts& known) {
   constexpr int kValuesPerParameter = 24, kMaxPasses = 10;
+  constexpr size_t kWindow = 2;
   std::vector<const ParamSpec*> shape;
   for (const ParamSpec& p : model.parameters())
     if (!p.linear) shape.push_back(&p);
   known.add(start);
+  bool improved = false;  // in the current pass
+  // Moves `start` to the best of parameter p's values axis[first..last] if it is better than
+  // `start`; returns whether it moved.
+  auto move_to_best = [&](const ParamSpec& p, const std::vector<double>& axis, size_t first, size_t last) {
+    std::vector<Start> tries(last - first + 1);
+    std::vector<size_t> unknown;
+    for (size_t i = 0; i < tries.size(); ++i) {
+      tries[i].values = start.values;
+      std::fill_n(tries[i].values.begin() + model.offset_of(p.name), p.channels, axis[first + i]);
+      if (const Start* met = known.find(tries[i].values))
+        tries[i] = *met;
+      else
+        unknown.push_back(i);
+    }
+    parallel_for(unknown.size(), thread_count(options.threads), [&](size_t i) {
+      Start& t = tries[unknown[i]];
+      t.cost = solved_cost(model, t.values, samples, metric, channels);
+    });
+    for (size_t i : unknown) known.add(tries[i]);
+    bool moved = false;
+    for (Start& t : tries)
+      if (t.cost < start.cost * (1 - 1e-9)) {
+        start = std::move(t);
+        moved = improved = true;
+      }
+    return moved;
+  };
   for (int pass = 0; pass < kMaxPasses; ++pass) {
-    bool improved = false;
+    improved = false;
     for (const ParamSpec* p : shape) {
       stop_if_cancelled(options);
       const std::vector<double> axis = grid_axis(*p, kValuesPerParameter);
-      std::vector<Start> tries(axis.size());
-      std::vector<size_t> unknown;
-      for (size_t k = 0; k < axis.size(); ++k) {
-        tries[k].values = start.values;
-        std::fill_n(tries[k].values.begin() + model.offset_of(p->name), p->channels, axis[k]);
-        if (const Start* met = known.find(tries[k].values))
-          tries[k] = *met;
-        else
-          unknown.push_back(k);
+      // The first pass tries every value of the axis. In the later ones the parameter's best
+      // value has moved only a step or two with the others: they try the values within kWindow
+      // steps of the current one, and go on past the window's end while that end is the best.
+      // (Every value in every pass made sgd's searches 2.5 to 3.5 times as long, for the same
+      // fits on eight of nine tables and 0.25 % better on one.)
+      if (pass == 0) {
+        move_to_best(*p, axis, 0, axis.size() - 1);
+        continue;
       }
-      parallel_for(unknown.size(), thread_count(options.threads), [&](size_t i) {
-        Start& t = tries[unknown[i]];
-        t.cost = solved_cost(model, t.values, samples, metric, channels);
-      });
-      for (size_t k : unknown) known.add(tries[k]);
-      for (Start& t : tries)
-        if (t.cost < start.cost * (1 - 1e-9)) {
-          start = std::move(t);
-          improved = true;
-        }
+      auto value = [&] { return start.values[model.offset_of(p->name)]; };  // moves replace start
+      const double now = value();
+      const size_t at = static_cast<size_t>(
+          std::min_element(axis.begin(), axis.end(),
+                           [&](double a, double b) { return std::fabs(a - now) < std::fabs(b - now); }) -
+          axis.begin());
+      size_t lo = at - std::min(at, kWindow), hi = std::min(axis.size() - 1, at + kWindow);
+      if (!move_to_best(*p, axis, lo, hi)) continue;
+      while (lo > 0 && value() == axis[lo] && move_to_best(*p, axis, lo - 1, lo - 1)) --lo;
+      while (hi + 1 < axis.size() && value() == axis[hi] && move_to_best(*p, axis, hi + 1, hi + 1)) ++hi;
     }
     if (!improved) break;
   }

@@ -90,6 +90,42 @@ TEST(CoordinateSearch, APointMetBeforeIsNotEvaluatedAgainAndGivesTheSameResult) 
   EXPECT_EQ(fresh.values, first.values);
 }
 
+TEST(CoordinateSearch, EndsWhereNoParameterIsBetterWithinTwoStepsOfItsValue) {
+  // After its first pass the search tries each parameter only near its current value (and
+  // farther on while the window's end is the best): where it stops, every parameter's values
+  // within two steps of the axis value nearest its own (colours set alike in every channel, as
+  // the search sets them) must cost no less. sgd's published-fit material from its defaults.
+  const Model& sgd = *find_model("sgd");
+  const std::vector<double> truth = parameter_values(sgd, sgd.recovery_facts().material);
+  const SampleSet data = test::model_table(sgd, truth, 2000, 0.01, 7, 0.05);
+  FitOptions options;
+  options.threads = 1;
+  Start start{sgd.default_values(), 0.0};
+  start.cost = solved_cost(sgd, start.values, data.samples, options.metric, kAllChannels);
+  SolvedCosts known(sgd);
+  const Start end = coordinate_search(sgd, start, data.samples, options.metric, kAllChannels, options, known);
+  ASSERT_LT(end.cost, 0.5 * start.cost);
+
+  int neighbours = 0;
+  for (const ParamSpec& p : sgd.parameters()) {
+    if (p.linear) continue;
+    const std::vector<double> axis = fitting::grid_axis(p, 24);
+    const double value = end.values[sgd.offset_of(p.name)];
+    size_t at = 0;
+    for (size_t k = 1; k < axis.size(); ++k)
+      if (std::fabs(axis[k] - value) < std::fabs(axis[at] - value)) at = k;
+    for (size_t k = at - std::min<size_t>(at, 2); k <= std::min(axis.size() - 1, at + 2); ++k) {
+      std::vector<double> values = end.values;
+      std::fill_n(values.begin() + sgd.offset_of(p.name), p.channels, axis[k]);
+      if (values == end.values) continue;
+      EXPECT_GE(solved_cost(sgd, values, data.samples, options.metric, kAllChannels), end.cost * (1 - 1e-9))
+          << p.name << " = " << axis[k];
+      ++neighbours;
+    }
+  }
+  EXPECT_GE(neighbours, 9 * 2);  // at least two neighbours of each of the nine shape colours
+}
+
 // Candidates within 1e-5 of every parameter's range are one optimum: ggx's roughness is spaced by
 // ratio over [0.01, 1], albedo and f0 linearly over [0, 1].
 TEST(SameOptimum, EveryValueWithinAHundredThousandthOfItsRange) {

@@ -57,6 +57,10 @@ struct Start {
   double cost;
 };
 
+// Values for one shape parameter in the grid and the coordinate search: n points spread over its
+// range (log-spaced for exponents and roughness), or every integer for integer parameters.
+std::vector<double> grid_axis(const ParamSpec& p, int n);
+
 // Solves the linear parameters of `values` and returns the cost there (cost_of without a loss):
 // from the solve's normal equations where they give it, which saves a pass over the samples per
 // grid point and search step (a quarter of those stages for a model with two linear colours).
@@ -104,7 +108,8 @@ class SolvedCosts {
 
 // Coordinate search from a grid point, where the shape is mostly colours: each parameter in
 // turn is tried at values spread over its range (the others held, colours set in every channel,
-// the linear parameters solved), keeping any improvement, until a pass changes nothing. A
+// the linear parameters solved), keeping any improvement, until a pass changes nothing; after
+// the first pass, only the values near the parameter's current one (fit_starts.cc). A
 // 256-point design in nine dimensions (sgd) rarely lands in the basin of a material's optimum;
 // the search walks there one parameter at a time, at the cost of a few hundred evaluations on
 // the subsample, before the trust region takes over. (Profiled on sgd, its evaluations with
