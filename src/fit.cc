@@ -137,15 +137,16 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
   // Stages work on subsets whose optimum can be worse on all samples than where they started;
   // choosing on all samples discards such a stage, and keeping the contained models' optima
   // among the candidates means the result is never worse than theirs. A candidate at the same
-  // optimum as one kept already (same_optimum) is not costed again.
+  // optimum as one kept already (same_optimum) is not costed again, nor one whose cost is known
+  // on all samples already (`cost_known`: a run on all samples ends with it).
   std::vector<Refinement> candidates;
   const std::vector<ValueSlot> slots = value_slots(model);
-  auto keep = [&](Refinement r) {
+  auto keep = [&](Refinement r, bool cost_known = false) {
     if (!r.usable) return;
     if (std::any_of(candidates.begin(), candidates.end(),
                     [&](const Refinement& c) { return same_optimum(slots, c.values, r.values); }))
       return;
-    r.cost = full_cost(r.values);
+    if (!cost_known) r.cost = full_cost(r.values);
     if (std::isfinite(r.cost)) candidates.push_back(std::move(r));
   };
   for (const std::vector<double>& nested : nested_starts) {
@@ -268,10 +269,10 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
       r.termination =
           fmt::format("polished: {} steps on all samples after converging on an importance subset of {} draws",
                       r.iterations, largest_draws);
-    keep(r);
+    keep(r, /*cost_known=*/true);
     if (!r.usable && candidates.empty()) best = std::move(r);  // reported as the failure it is
   } else {
-    keep(best);
+    keep(best, /*cost_known=*/true);  // the subsample is all samples
   }
   const auto cheapest = [&] {
     return *std::min_element(candidates.begin(), candidates.end(),
