@@ -60,17 +60,29 @@ TEST(SolvedCosts, FindsAPointByItsShapeValuesWhateverItsLinearValues) {
   EXPECT_EQ(known.find(parameter_values(ggx, {"albedo=0.2", "roughness=0.30000001", "f0=0.04"})), nullptr);
 }
 
+// A coordinate search's setting: sgd's published-fit material on 2 000 samples (1 % noise, the
+// given seed) and its start, sgd's defaults with their linear values solved.
+struct SgdSearch {
+  SampleSet data;
+  FitOptions options;
+  Start start;
+};
+SgdSearch sgd_search(const Model& sgd, uint64_t seed) {
+  SgdSearch search;
+  const std::vector<double> truth = parameter_values(sgd, find_model("sgd")->recovery_facts().material);
+  search.data = test::model_table(sgd, truth, 2000, 0.01, seed, 0.05);
+  search.options.threads = 1;
+  search.start = {sgd.default_values(), 0.0};
+  search.start.cost = solved_cost(sgd, search.start.values, search.data.samples, search.options.metric, kAllChannels);
+  return search;
+}
+
 TEST(CoordinateSearch, APointMetBeforeIsNotEvaluatedAgainAndGivesTheSameResult) {
   // sgd's published-fit material, searched from its defaults on 2 000 samples: a second search
   // from the same start with what the first met evaluates nothing and ends where it ended; a
   // search with nothing known ends there too, at the cost a fresh solve gives.
   const CountingModel sgd(*find_model("sgd"));
-  const std::vector<double> truth = parameter_values(sgd, find_model("sgd")->recovery_facts().material);
-  const SampleSet data = test::model_table(sgd, truth, 2000, 0.01, 5, 0.05);
-  FitOptions options;
-  options.threads = 1;
-  Start start{sgd.default_values(), 0.0};
-  start.cost = solved_cost(sgd, start.values, data.samples, options.metric, kAllChannels);
+  const auto [data, options, start] = sgd_search(sgd, 5);
 
   SolvedCosts known(sgd);
   const Start first = coordinate_search(sgd, start, data.samples, options.metric, kAllChannels, options, known);
@@ -96,12 +108,7 @@ TEST(CoordinateSearch, EndsWhereNoParameterIsBetterWithinTwoStepsOfItsValue) {
   // within two steps of the axis value nearest its own (colours set alike in every channel, as
   // the search sets them) must cost no less. sgd's published-fit material from its defaults.
   const Model& sgd = *find_model("sgd");
-  const std::vector<double> truth = parameter_values(sgd, sgd.recovery_facts().material);
-  const SampleSet data = test::model_table(sgd, truth, 2000, 0.01, 7, 0.05);
-  FitOptions options;
-  options.threads = 1;
-  Start start{sgd.default_values(), 0.0};
-  start.cost = solved_cost(sgd, start.values, data.samples, options.metric, kAllChannels);
+  const auto [data, options, start] = sgd_search(sgd, 7);
   SolvedCosts known(sgd);
   const Start end = coordinate_search(sgd, start, data.samples, options.metric, kAllChannels, options, known);
   ASSERT_LT(end.cost, 0.5 * start.cost);
