@@ -129,11 +129,15 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
   }
   const std::unique_ptr<ceres::LossFunction> loss = make_loss(options.loss, loss_scale);
   const LeastSquares on_all(model, data.samples, options.metric, channels, loss.get(), options);
-  auto full_cost = [&](const std::vector<double>& values) {
-    return 0.5 * cost_of(model, values, data.samples, options.metric, channels, loss.get(), threads);
+  // A candidate's cost is given up once past the best kept so far (`beaten_above`): it cannot
+  // be chosen then.
+  auto full_cost = [&](const std::vector<double>& values, double beaten_above) {
+    return 0.5 *
+           cost_of(model, values, data.samples, options.metric, channels, loss.get(), threads, 2.0 * beaten_above);
   };
 
-  // Every candidate met on the way, with its objective on all samples (½Σ, as Ceres counts).
+  // Every candidate met on the way, with its objective on all samples (½Σ, as Ceres counts), or
+  // for one that cannot be chosen, a part of it above the best kept before it.
   // Stages work on subsets whose optimum can be worse on all samples than where they started;
   // choosing on all samples discards such a stage, and keeping the contained models' optima
   // among the candidates means the result is never worse than theirs. A candidate at the same
@@ -146,7 +150,11 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
     if (std::any_of(candidates.begin(), candidates.end(),
                     [&](const Refinement& c) { return same_optimum(slots, c.values, r.values); }))
       return;
-    if (!cost_known) r.cost = full_cost(r.values);
+    if (!cost_known) {
+      double best_kept = HUGE_VAL;
+      for (const Refinement& c : candidates) best_kept = std::min(best_kept, c.cost);
+      r.cost = full_cost(r.values, best_kept);
+    }
     if (std::isfinite(r.cost)) candidates.push_back(std::move(r));
   };
   for (const std::vector<double>& nested : nested_starts) {

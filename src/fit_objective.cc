@@ -2,6 +2,7 @@
 #include "brdffit/fit_objective.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <numeric>
 
@@ -12,12 +13,29 @@ namespace brdffit {
 
 namespace {
 
+// Chunk `order` of 2^bits in bit-reversed order (0, half, quarter, three quarters, ...): a few
+// chunks taken so spread over the whole table.
+size_t bit_reversed(size_t order, size_t chunks) {
+  size_t reversed = 0;
+  for (size_t bit = 1, mirror = chunks / 2; mirror > 0; bit <<= 1, mirror >>= 1)
+    if (order & bit) reversed |= mirror;
+  return reversed;
+}
+
 // The one loop over a fit's residuals: calls visit(chunk, r) for every sample and fitted
-// channel with r = metric residual · √weight, over `chunks` ranges of the samples in parallel.
-template <class Visit>
+// channel with r = metric residual · √weight, over `chunks` (a power of two) ranges of the
+// samples in parallel, taken in bit-reversed order, and chunk_done(chunk) after each. A chunk
+// not started when give_up() holds is skipped.
+template <class Visit, class ChunkDone, class GiveUp>
 void for_each_residual(const Model& model, const std::vector<double>& values, const std::vector<Sample>& samples,
-                       Metric metric, const Channels& channels, size_t chunks, int threads, Visit&& visit) {
-  parallel_chunks(samples.size(), chunks, threads, [&](size_t begin, size_t end, size_t chunk) {
+                       Metric metric, const Channels& channels, size_t chunks, int threads, Visit&& visit,
+                       ChunkDone&& chunk_done, GiveUp&& give_up) {
+  const size_t per_chunk = (samples.size() + chunks - 1) / chunks;
+  parallel_for(chunks, threads, [&](size_t order) {
+    if (give_up()) return;
+    const size_t chunk = bit_reversed(order, chunks);
+    const size_t begin = std::min(samples.size(), chunk * per_chunk);
+    const size_t end = std::min(samples.size(), begin + per_chunk);
     for (size_t i = begin; i < end; ++i) {
       const Sample& s = samples[i];
       const Rgb<double> shade = model.shade(values.data(), s.l, s.v);
@@ -25,22 +43,35 @@ void for_each_residual(const Model& model, const std::vector<double>& values, co
       for (int c = 0; c < 3; ++c)
         if (channels[c]) visit(chunk, metric_residual(metric, shade[c], s.value[c]) * sqrt_w);
     }
+    chunk_done(chunk);
   });
 }
 
 }  // namespace
 
 double cost_of(const Model& model, const std::vector<double>& values, const std::vector<Sample>& samples, Metric metric,
-               const Channels& channels, const ceres::LossFunction* loss, int threads) {
+               const Channels& channels, const ceres::LossFunction* loss, int threads, double give_up_above) {
   // Chunks even on one thread: the sum then does not depend on the number of threads.
   const size_t chunks = samples.size() >= 50000 ? 64 : 1;
   std::vector<double> partial(chunks, 0.0);
-  for_each_residual(model, values, samples, metric, channels, chunks, chunks > 1 ? threads : 1,
-                    [&](size_t chunk, double residual) {
-                      double r, scale;
-                      detail::robustify(loss, residual, r, scale);
-                      partial[chunk] += r * r;
-                    });
+  // The sum over the chunks done so far. Bit-reversed, the chunks make it grow about evenly
+  // however the error is spread over the table: a candidate at twice the bound is given up
+  // about halfway.
+  std::atomic<double> done{0.0};
+  auto passed = [&] { return done.load() > give_up_above; };
+  for_each_residual(
+      model, values, samples, metric, channels, chunks, chunks > 1 ? threads : 1,
+      [&](size_t chunk, double residual) {
+        double r, scale;
+        detail::robustify(loss, residual, r, scale);
+        partial[chunk] += r * r;
+      },
+      [&](size_t chunk) {
+        for (double seen = done.load(); !done.compare_exchange_weak(seen, seen + partial[chunk]);) {
+        }
+      },
+      passed);
+  if (passed()) return done.load();
   const double sum = std::accumulate(partial.begin(), partial.end(), 0.0);
   return std::isfinite(sum) ? sum : HUGE_VAL;
 }
@@ -48,8 +79,10 @@ double cost_of(const Model& model, const std::vector<double>& values, const std:
 double median_abs_residual(const Model& model, const std::vector<double>& values, const std::vector<Sample>& samples,
                            Metric metric, const Channels& channels) {
   std::vector<double> abs_residuals;
-  for_each_residual(model, values, samples, metric, channels, 1, 1,
-                    [&](size_t, double residual) { abs_residuals.push_back(std::fabs(residual)); });
+  for_each_residual(
+      model, values, samples, metric, channels, 1, 1,
+      [&](size_t, double residual) { abs_residuals.push_back(std::fabs(residual)); }, [](size_t) {},
+      [] { return false; });
   if (abs_residuals.empty()) return 0.0;
   auto middle = abs_residuals.begin() + abs_residuals.size() / 2;
   std::nth_element(abs_residuals.begin(), middle, abs_residuals.end());

@@ -131,6 +131,26 @@ TEST(FitObjective, CostIsTheWeightedSumOfSquaresOverTheFittedChannels) {
   EXPECT_EQ(cost_of(lambert, {NAN, 1, 1}, set.samples, Metric::Cosine, kAllChannels, nullptr), HUGE_VAL);
 }
 
+// A candidate's cost is given up once it passes the best kept (fit.cc): exact below the bound,
+// and past it, a part of the sum already above the bound. 64 000 samples (64 chunks), a quarter
+// of the sum in each of the first four chunks.
+TEST(FitObjective, CostGivenUpPastABoundIsAboveItAndOnlyPartOfTheSum) {
+  const Model& lambert = *find_model("lambert");
+  std::vector<Sample> samples(64000, {Vec3(0, 0, 1), Vec3(0, 0, 1), Rgb<double>(0.3, 0.3, 0.3), 1.0});
+  for (size_t i = 0; i < samples.size() / 16; ++i) samples[i].value = Rgb<double>(0.9, 0.9, 0.9);
+  const std::vector<double> albedo{1, 1, 1};
+  const double full = cost_of(lambert, albedo, samples, Metric::Cosine, kAllChannels, nullptr);
+  const double d_far = 0.9 - kPredicted, d_near = 0.3 - kPredicted;
+  EXPECT_NEAR(full, 3 * 4000 * d_far * d_far + 3 * 60000 * d_near * d_near, 1e-9 * full);
+  EXPECT_EQ(cost_of(lambert, albedo, samples, Metric::Cosine, kAllChannels, nullptr, 1, 1.01 * full), full);
+  for (int threads : {1, 2}) {
+    const double given_up =
+        cost_of(lambert, albedo, samples, Metric::Cosine, kAllChannels, nullptr, threads, 0.2 * full);
+    EXPECT_GT(given_up, 0.2 * full) << threads << " threads";
+    EXPECT_LT(given_up, 0.5 * full) << threads << " threads";
+  }
+}
+
 TEST(FitObjective, MedianResidualAbsoluteErrorsAndTheZeroPrediction) {
   const Model& lambert = *find_model("lambert");
   const SampleSet set = two_samples();

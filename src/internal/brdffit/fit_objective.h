@@ -7,6 +7,7 @@
 #include <ceres/loss_function.h>
 
 #include <array>
+#include <cmath>
 #include <vector>
 
 #include "brdffit/metric.h"
@@ -21,9 +22,12 @@ constexpr Channels kAllChannels{true, true, true};
 
 // Σ over samples and fitted channels of ρ((metric residual · √weight)²), ρ the robust loss
 // (identity when loss is null). Parallel over chunks on `threads` threads when the set is large.
-// HUGE_VAL when the sum is not finite, so a diverging candidate always loses.
+// HUGE_VAL when the sum is not finite, so a diverging candidate always loses. A sum that passes
+// give_up_above is given up: the value returned is then only known to be above that bound (the
+// candidate cannot beat one of that cost).
 double cost_of(const Model& model, const std::vector<double>& values, const std::vector<Sample>& samples, Metric metric,
-               const Channels& channels, const ceres::LossFunction* loss, int threads = 1);
+               const Channels& channels, const ceres::LossFunction* loss, int threads = 1,
+               double give_up_above = HUGE_VAL);
 
 // The median of |metric residual · √weight| over samples and fitted channels: the robust loss's
 // automatic scale (σ ≈ 1.4826 × this for Gaussian noise).
