@@ -67,12 +67,29 @@ class StageClock {
   int last_iterations_;
 };
 
-ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOptions& options, const Channels& channels,
-                        const std::vector<double>& initial, const std::vector<std::vector<double>>& nested_starts) {
+// The importance subsamples the fits start on (a count of draws and a seed each): they depend on
+// the samples alone, so one fit_models call draws them once for all its models.
+class Subsamples {
+ public:
+  explicit Subsamples(const SampleSet& data) : data_(data) {}
+  const std::vector<Sample>& draw(size_t count, uint64_t seed) {
+    auto [it, drawn_now] = drawn_.try_emplace({count, seed});
+    if (drawn_now) it->second = importance_subset(data_.samples, count, seed);
+    return it->second;
+  }
+
+ private:
+  const SampleSet& data_;
+  std::map<std::pair<size_t, uint64_t>, std::vector<Sample>> drawn_;
+};
+
+ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& subsamples, const FitOptions& options,
+                        const Channels& channels, const std::vector<double>& initial,
+                        const std::vector<std::vector<double>>& nested_starts) {
   ChannelFit fit;
   StageClock clock(fit);
   const int threads = thread_count(options.threads);
-  const std::vector<Sample> small = importance_subset(data.samples, options.subsample, options.seed);
+  const std::vector<Sample>& small = subsamples.draw(options.subsample, options.seed);
   clock.lap("subsample");
   const bool small_is_all = small.size() == data.samples.size();
 
@@ -91,8 +108,8 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
     // fifth of every model's time: docs/performance.md); the points kept are costed again on the
     // subsample, where the search and the refinements go on.
     const size_t keep_best = static_cast<size_t>(std::max(1, options.starts));
-    const std::vector<Sample> grid_samples =
-        small_is_all ? small : importance_subset(data.samples, options.subsample / 3, options.seed);
+    const std::vector<Sample>& grid_samples =
+        small_is_all ? small : subsamples.draw(options.subsample / 3, options.seed);
     for (bool colours : {false, true}) {
       if (colours && !has_non_linear_colour(model)) break;
       std::vector<Start> grid = grid_starts(model, initial, grid_samples, options.metric, channels, options, colours);
@@ -201,7 +218,10 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, const FitOpti
         if (more.usable) r = std::move(more);
       }
       clock.lap("continue");
-      if (!small_is_all) keep(r);
+      // A start that ended where an earlier one did is not costed on all samples again.
+      const bool ended_before =
+          std::any_of(screened.data(), &r, [&](const Refinement& earlier) { return same_cost(earlier.cost, r.cost); });
+      if (!small_is_all && !ended_before) keep(r);
       if (r.cost < best.cost) best = r;
       clock.lap("candidate costs");
     }
@@ -383,7 +403,7 @@ void check_fit_input(const SampleSet& data) {
 // Fits one model from its grid and from the contained models' optima `nested`. A per-channel
 // fit first fits the shared model and starts each channel from it, so it contains the shared
 // fit as well.
-FitResult fit_one(const Model& model, const SampleSet& data, const FitOptions& options,
+FitResult fit_one(const Model& model, const SampleSet& data, Subsamples& subsamples, const FitOptions& options,
                   const std::vector<ChannelVectors>& nested) {
   const auto started = std::chrono::steady_clock::now();
   FitResult result;
@@ -412,19 +432,20 @@ FitResult fit_one(const Model& model, const SampleSet& data, const FitOptions& o
     fits.push_back(std::move(fit));
   };
   if (!options.per_channel) {
-    record(fit_channels(model, data, options, kAllChannels, initial, nested_for(0)));
+    record(fit_channels(model, data, subsamples, options, kAllChannels, initial, nested_for(0)));
   } else {
     std::vector<std::vector<double>> shared_starts;
     for (int c = 0; c < 3; ++c)
       for (std::vector<double>& s : nested_for(c)) shared_starts.push_back(std::move(s));
-    const ChannelFit shared = fit_channels(model, data, options, kAllChannels, initial, shared_starts);
+    const ChannelFit shared = fit_channels(model, data, subsamples, options, kAllChannels, initial, shared_starts);
     count(shared);
     for (int c = 0; c < 3; ++c) {
       Channels mask{false, false, false};
       mask[c] = true;
       std::vector<std::vector<double>> starts = nested_for(c);
       if (shared.final.usable) starts.push_back(shared.final.values);
-      record(fit_channels(model, data, options, mask, shared.final.usable ? shared.final.values : initial, starts));
+      record(fit_channels(model, data, subsamples, options, mask, shared.final.usable ? shared.final.values : initial,
+                          starts));
     }
   }
   result.termination = fits.back().final.termination;
@@ -465,11 +486,11 @@ FitResult fit_model(const Model& model, const SampleSet& data, const FitOptions&
 namespace {
 
 // fit_one, with a fit that goes wrong reported as failed rather than thrown.
-FitResult fit_or_failure(const Model& model, const SampleSet& data, const FitOptions& options,
+FitResult fit_or_failure(const Model& model, const SampleSet& data, Subsamples& subsamples, const FitOptions& options,
                          const std::vector<ChannelVectors>& nested) {
   FitResult result;
   try {
-    result = fit_one(model, data, options, nested);
+    result = fit_one(model, data, subsamples, options, nested);
   } catch (const Error&) {
     throw;  // bad input or options: the same for every model
   } catch (const std::exception& e) {
@@ -531,7 +552,7 @@ FitResult in_isotropic_form(const Model& model, const Nesting& form, const Model
 }
 
 // `nested`: the contained models' optima in the full model's values.
-FitResult fit_held(const HeldModel& held, const SampleSet& data, const FitOptions& options,
+FitResult fit_held(const HeldModel& held, const SampleSet& data, Subsamples& subsamples, const FitOptions& options,
                    const std::vector<ChannelVectors>& nested = {}) {
   FitOptions own = options;
   const int full_count = held.num_values() + held.held_count();
@@ -544,7 +565,7 @@ FitResult fit_held(const HeldModel& held, const SampleSet& data, const FitOption
     for (int c = 0; c < 3; ++c) free[c] = held.free_values(start[c]);
     free_nested.push_back(std::move(free));
   }
-  return held.full_result(fit_or_failure(held, data, own, free_nested));
+  return held.full_result(fit_or_failure(held, data, subsamples, own, free_nested));
 }
 
 // On isotropic data, a model with neither an isotropic form nor held parameters of the user's
@@ -575,6 +596,7 @@ std::vector<FitResult> fit_models(const std::vector<const Model*>& models, const
   check_held(models, options.fixed);
   // Every model fitted in this run, the requested ones and those they contain, by name.
   std::map<std::string, FitResult> fitted;
+  Subsamples subsamples(data);
   std::set<std::string> in_progress;
   auto requested = [&](const std::string& name) {
     return std::any_of(models.begin(), models.end(), [&](const Model* m) { return m->name() == name; });
@@ -610,10 +632,10 @@ std::vector<FitResult> fit_models(const std::vector<const Model*>& models, const
     if (form_fit != fitted.end()) {
       result = in_isotropic_form(model, *form, *find_model(form->inner), form_fit->second, data);
     } else if (isotropic.holds_any()) {
-      result = fit_held(isotropic, data, own, nested);
+      result = fit_held(isotropic, data, subsamples, own, nested);
       note_isotropic_holds(model, result);
     } else {
-      result = fit_or_failure(model, data, own, nested);
+      result = fit_or_failure(model, data, subsamples, own, nested);
     }
     in_progress.erase(model.name());
     return fitted.emplace(model.name(), std::move(result)).first->second;
@@ -627,7 +649,7 @@ std::vector<FitResult> fit_models(const std::vector<const Model*>& models, const
     if (options.on_model_start) options.on_model_start(results.size(), models.size(), model->name());
     // Held parameters (FitOptions::fixed): the model of the others, fitted on its own.
     const HeldModel held(*model, options.fixed.empty() ? options.fixed : holds_on(data, *model, options.fixed));
-    FitResult r = held.holds_any() ? fit_held(held, data, options) : fit(*model);
+    FitResult r = held.holds_any() ? fit_held(held, data, subsamples, options) : fit(*model);
     if (held.holds_any() && !options.fixed.empty() && data.isotropic && !isotropic_holds(*model).empty())
       note_isotropic_holds(*model, r);
     judge(*model, baseline, zero_error, options.metric, data.isotropic, r);

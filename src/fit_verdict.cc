@@ -49,6 +49,10 @@ bool same_optimum(const std::vector<ValueSlot>& slots, const std::vector<double>
   return true;
 }
 
+bool same_cost(double a, double b) {
+  return std::isfinite(a) && std::isfinite(b) && std::abs(a - b) <= 1e-6 * std::max(std::abs(a), std::abs(b));
+}
+
 void judge(const Model& model, const FitResult* baseline, double zero_error, Metric metric, bool isotropic_data,
            FitResult& r) {
   constexpr double kPoorRatio = 1.05, kPoorUnexplained = 0.85, kPoorTypical = 1.0, kPoorClampedUnexplained = 0.25;

@@ -12,6 +12,7 @@ namespace brdffit {
 namespace {
 
 using fitting::coordinate_search;
+using fitting::same_cost;
 using fitting::same_optimum;
 using fitting::solved_cost;
 using fitting::SolvedCosts;
@@ -157,6 +158,14 @@ TEST(SameOptimum, EveryValueWithinAHundredThousandthOfItsRange) {
   // range linearly, near its bottom far less.
   EXPECT_TRUE(same_optimum(slots, moved(r, 0.9), moved(r, 0.9 * std::exp(0.9e-5 * log_range))));
   EXPECT_FALSE(same_optimum(slots, moved(r, 0.02), moved(r, 0.02 * std::exp(1.1e-5 * log_range))));
+}
+
+TEST(SameCost, WithinAMillionthOfTheLarger) {
+  EXPECT_TRUE(same_cost(0.0214645, 0.0214645));
+  EXPECT_TRUE(same_cost(0.0214645, 0.0214645 * (1 + 0.9e-6)));
+  EXPECT_FALSE(same_cost(0.0214645, 0.0214645 * (1 + 1.1e-6)));
+  EXPECT_FALSE(same_cost(0.0214645 * (1 - 1.1e-6), 0.0214645));
+  EXPECT_FALSE(same_cost(0.0214645, HUGE_VAL));
 }
 
 }  // namespace

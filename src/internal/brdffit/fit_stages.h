@@ -213,6 +213,13 @@ bool at_bound(const ParamSpec& p, double value);
 // on all samples 5e-7 apart), and the fitter costs such a candidate on all samples only once.
 bool same_optimum(const std::vector<ValueSlot>& slots, const std::vector<double>& a, const std::vector<double>& b);
 
+// Whether two refinements on the same samples ended at the same cost, to a millionth: the same
+// optimum, or the same valley along values the samples hardly determine, whose candidates
+// same_optimum keeps apart (gltf+sheen's six continued starts on gold-metallic-paint: the same
+// cost on the subsample to six digits, on all samples to 7e-5). The fitter costs such a
+// candidate on all samples only once.
+bool same_cost(double a, double b);
+
 // The verdict and the warning lines of a fitted result (see Verdict in fit.h). A fit is poor
 // when any of these holds:
 //   - its error in any judged metric (kJudgedMetrics: cosine, log, relative and l2, whichever was
