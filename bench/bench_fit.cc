@@ -5,6 +5,8 @@
 //
 //   bench_fit TABLE [--models ggx,...|all] [--threads N] [--polish N | --converge]
 //   bench_fit --synthetic N [--models ...]      (N samples of ggx at fixed parameters)
+//   bench_fit TABLE --together ...              (one fit_models call, as batch and `fit -m` fit:
+//                                                contained models fitted once; per model its own time)
 #include <sys/resource.h>
 
 #include <CLI/CLI.hpp>
@@ -75,6 +77,10 @@ int main(int argc, char** argv) {
   app.add_option("--metric", metric, "Metric minimised");
   bool stages = false;
   app.add_flag("--stages", stages, "Print each fit's CPU seconds per stage of the fitter (use with --threads 1)");
+  bool together = false;
+  app.add_flag("--together", together,
+               "Fit the models in one call, as batch does (each contained model once); print each model's own "
+               "seconds and, with --stages, every stage summed over the models");
   CLI11_PARSE(app, argc, argv);
   try {
     if (const auto parsed = parse_metric(metric))
@@ -103,6 +109,31 @@ int main(int argc, char** argv) {
     options.threads = threads;
     options.polish_iterations = polish;
     if (converge) options.polish_after = SIZE_MAX;
+    if (together) {
+      const double cpu_start = cpu_seconds();
+      const std::vector<FitResult> fits = fit_models(list, data, options);
+      std::vector<StageProfile> summed;
+      for (const FitResult& fit : fits) {
+        fmt::print("{:<22} {:>7.3f} s  cosine {:.5g}  log {:.5g}  iterations {:>3}  {}\n", fit.model, fit.seconds,
+                   fit.metrics.cosine, fit.metrics.log, fit.iterations, fit.ok ? "ok" : fit.error);
+        if (stages && fit.seconds > 2.0)
+          for (const StageProfile& s : fit.stages)
+            fmt::print("    {:<22} {:>8.3f} s  {:>3} iterations\n", s.stage, s.cpu_seconds, s.iterations);
+        for (const StageProfile& s : fit.stages) {
+          auto it =
+              std::find_if(summed.begin(), summed.end(), [&](const StageProfile& t) { return t.stage == s.stage; });
+          if (it == summed.end()) it = summed.insert(summed.end(), {s.stage, 0.0, 0});
+          it->cpu_seconds += s.cpu_seconds;
+          it->iterations += s.iterations;
+        }
+      }
+      if (stages)
+        for (const StageProfile& s : summed)
+          fmt::print("    {:<22} {:>8.3f} s  {:>5} iterations\n", s.stage, s.cpu_seconds, s.iterations);
+      fmt::print("cpu {:.2f} s for {} models; peak memory {:.0f} MB\n", cpu_seconds() - cpu_start, fits.size(),
+                 peak_rss_mb());
+      return 0;
+    }
     for (const Model* m : list) {
       const auto start = std::chrono::steady_clock::now();
       const double cpu_start = cpu_seconds();
