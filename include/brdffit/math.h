@@ -7,6 +7,8 @@
 
 #include <Eigen/Core>
 #include <cmath>
+#include <type_traits>
+#include <utility>
 
 namespace brdffit {
 
@@ -35,22 +37,39 @@ auto value_of(const J& j) -> decltype(j.a) {
   return j.a;
 }
 
-// f(x) for a function f of one parameter x, a double or a ceres::Jet: f runs on a Jet of one
-// derivative and the chain rule puts f'(x)·∂x back. An expensive term of one parameter (a lobe of
-// its roughness, a table read at it) then costs one derivative instead of one per fitted value:
-// a Jet of nine derivatives does nine times the work in every step of f. f is called with a
-// double or a one-derivative Jet (a generic lambda).
-template <class F>
-double of_one_parameter(double x, F&& f) {
-  return f(x);
+// f(x…) for a function f of a few parameters x…, doubles or ceres::Jets: f runs on Jets of one
+// derivative per parameter and the chain rule puts Σ ∂f/∂xᵢ·∂xᵢ back. An expensive term of one or
+// two parameters (a lobe of its roughness, a table read at it, a Fresnel of its ior) then costs
+// one or two derivatives instead of one per fitted value: a Jet of nine derivatives does nine
+// times the work in every step of f. f is called with doubles or with Jets of sizeof…(x)
+// derivatives (a generic lambda).
+template <class F, class... X, std::enable_if_t<(std::is_same_v<X, double> && ...), int> = 0>
+double of_parameters(F&& f, const X&... x) {
+  return f(x...);
 }
-template <template <class, int> class Jet, int N, class F>
-Jet<double, N> of_one_parameter(const Jet<double, N>& x, F&& f) {
-  const Jet<double, 1> y = f(Jet<double, 1>(x.a, 0));
+namespace detail {
+template <template <class, int> class Jet, int N, class F, class... X, size_t... I>
+Jet<double, N> on_narrow_jets(F&& f, std::index_sequence<I...>, const X&... x) {
+  using Narrow = Jet<double, static_cast<int>(sizeof...(X))>;
+  const Narrow y = f(Narrow(x.a, static_cast<int>(I))...);
   Jet<double, N> out;
   out.a = y.a;
-  out.v = y.v[0] * x.v;
+  out.v.setZero();
+  ((out.v += y.v[I] * x.v), ...);
   return out;
+}
+}  // namespace detail
+template <class F, template <class, int> class Jet, int N, class... X>
+Jet<double, N> of_parameters(F&& f, const Jet<double, N>& x, const X&... more) {
+  return detail::on_narrow_jets<Jet, N>(f, std::index_sequence_for<Jet<double, N>, X...>(), x, more...);
+}
+template <class T, class F>
+T of_one_parameter(const T& x, F&& f) {
+  return of_parameters(f, x);
+}
+template <class T, class F>
+T of_two_parameters(const T& x, const T& y, F&& f) {
+  return of_parameters(f, x, y);
 }
 
 template <class T>

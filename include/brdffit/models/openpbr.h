@@ -212,32 +212,50 @@ struct OpenPbr {
 
   template <class T>
   static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
-    using std::sqrt;
     const double nl = l.z(), nv = v.z();
     Rgb<T> f(T(0.0), T(0.0), T(0.0));
     if (nl <= 0.0 || nv <= 0.0) return f;
     const Vec3 h = half_vector(l, v);
     const double lh = l.dot(h);
 
+    // The terms of one or two parameters run on Jets of one or two derivatives (math.h): with a
+    // Jet per fitted parameter, each of their steps would carry every derivative.
     const T r = p[kSpecularRoughness], eta = p[kSpecularIor];
-    const T alpha = r * r;
-    const double one_minus_a = 1.0 - kAnisotropy;
-    const T alpha_t = alpha * std::sqrt(2.0 / (1.0 + one_minus_a * one_minus_a)), alpha_b = one_minus_a * alpha_t;
-    const T lobe = ggx_ndf(h, alpha_t, alpha_b) * ggx_height_correlated_g2(l, v, alpha_t, alpha_b) / (4.0 * nl * nv);
-    const T dielectric_f = dielectric_fresnel(lh, eta);
+    const T lobe = of_one_parameter(r, [&](const auto& r) {
+      using R = std::decay_t<decltype(r)>;
+      const R alpha = r * r;
+      const double one_minus_a = 1.0 - kAnisotropy;
+      const R alpha_t = alpha * std::sqrt(2.0 / (1.0 + one_minus_a * one_minus_a)), alpha_b = one_minus_a * alpha_t;
+      return R(ggx_ndf(h, alpha_t, alpha_b) * ggx_height_correlated_g2(l, v, alpha_t, alpha_b) / (4.0 * nl * nv));
+    });
+    const T dielectric_f = of_one_parameter(eta, [&](const auto& e) { return dielectric_fresnel(lh, e); });
     // Reciprocal albedo scaling of the diffuse base (Kelemen form, see the head of the file).
-    const DielectricAlbedoAt<T> albedo(r, eta);
-    const T diffuse_through = (1.0 - albedo(nl)) * (1.0 - albedo(nv)) / (1.0 - albedo.average());
+    const T diffuse_through = of_two_parameters(r, eta, [&](const auto& r, const auto& e) {
+      using R = std::decay_t<decltype(r)>;
+      const DielectricAlbedoAt<R> albedo(r, e);
+      return R((1.0 - albedo(nl)) * (1.0 - albedo(nv)) / (1.0 - albedo.average()));
+    });
 
-    // EON diffuse (shape terms shared by the three channels).
+    // EON diffuse (shape terms shared by the three channels, functions of σ alone).
     const T sigma = p[kDiffuseRoughness];
-    const T on_a = 1.0 / (1.0 + (0.5 - 2.0 / (3.0 * kPi)) * sigma), on_b = sigma * on_a;
     const double s = l.dot(v) - nl * nv, s_over_t = s > 0.0 ? s / std::max(nl, nv) : s;
-    const T albedo_avg = on_a * (1.0 + (2.0 / 3.0 - 28.0 / (15.0 * kPi)) * sigma);
+    auto on_a = [](const auto& sigma) { return 1.0 / (1.0 + (0.5 - 2.0 / (3.0 * kPi)) * sigma); };
+    auto albedo_average = [&](const auto& sigma) {
+      return on_a(sigma) * (1.0 + (2.0 / 3.0 - 28.0 / (15.0 * kPi)) * sigma);
+    };
+    const T single_shape =
+        of_one_parameter(sigma, [&](const auto& sigma) { return on_a(sigma) * (1.0 + sigma * s_over_t); });
+    const T albedo_avg = of_one_parameter(sigma, albedo_average);
     const bool compensate = value_of(sigma) > 1e-9;  // at σ = 0 EON is Lambert, the term 0/0 → 0
-    const T comp_shape = compensate ? T((1.0 - oren_nayar_albedo(nl, on_a, on_b)) *
-                                        (1.0 - oren_nayar_albedo(nv, on_a, on_b)) / (1.0 - albedo_avg))
-                                    : T(0.0);
+    const T comp_shape =
+        compensate ? of_one_parameter(sigma,
+                                      [&](const auto& sigma) {
+                                        using S = std::decay_t<decltype(sigma)>;
+                                        const S a = on_a(sigma), b = sigma * a;
+                                        return S((1.0 - oren_nayar_albedo(nl, a, b)) *
+                                                 (1.0 - oren_nayar_albedo(nv, a, b)) / (1.0 - albedo_average(sigma)));
+                                      })
+                   : T(0.0);
 
     // (1 − x)⁵ and (1 − x)⁶ by multiplication: std::pow was an eighth of openpbr's fit.
     const double schlick_w = schlick_weight(lh), edge_schlick_w = schlick_weight(kMuBar);
@@ -246,7 +264,7 @@ struct OpenPbr {
     for (int c = 0; c < 3; ++c) {
       const T rho = p[kBaseColor + c], tint = p[kSpecularColor + c];
       const T rho_ms = rho * rho * albedo_avg / (1.0 - rho * (1.0 - albedo_avg));
-      const T diffuse = rho * kInvPi * (on_a + on_b * s_over_t) + rho_ms * kInvPi * comp_shape;
+      const T diffuse = rho * kInvPi * single_shape + rho_ms * kInvPi * comp_shape;
       const T glossy_diffuse = tint * dielectric_f * lobe + diffuse_through * diffuse;
       const T schlick = rho + (1.0 - rho) * schlick_w, schlick_edge = rho + (1.0 - rho) * edge_schlick_w;
       const T f82 = max0(T(schlick - edge_w * (1.0 - tint) * schlick_edge));

@@ -105,38 +105,56 @@ Rgb<T> openpbr_coat_layer(const T* p, const T* coat, const Vec3& l, const Vec3& 
   using std::sqrt;
   const T &weight = coat[0], &coat_roughness = coat[4], &coat_ior = coat[5];
   const T* coat_color = coat + 1;
+  // The terms of one or two parameters run on Jets of one or two derivatives (math.h).
 
   // The base as the coat changes it: roughened, its Fresnel relative to the coat's index.
   std::array<T, OpenPbr::kNumValues> base;
   std::copy_n(p, OpenPbr::kNumValues, base.begin());
-  const T r = p[OpenPbr::kSpecularRoughness], r2 = r * r, rc2 = coat_roughness * coat_roughness;
-  const T variance = r2 * r2 + 2.0 * (rc2 * rc2), combined = variance < T(1.0) ? variance : T(1.0);
-  base[OpenPbr::kSpecularRoughness] = r + weight * (sqrt(sqrt(combined)) - r);
+  const T r = p[OpenPbr::kSpecularRoughness];
+  const T combined_roughness = of_two_parameters(r, coat_roughness, [](const auto& r, const auto& rc) {
+    using R = std::decay_t<decltype(r)>;
+    const R r2 = r * r, rc2 = rc * rc, variance = r2 * r2 + 2.0 * (rc2 * rc2);
+    return R(sqrt(sqrt(variance < R(1.0) ? variance : R(1.0))));
+  });
+  base[OpenPbr::kSpecularRoughness] = r + weight * (combined_roughness - r);
   const T specular_ior = p[OpenPbr::kSpecularIor];
   const T relative_ior = specular_ior > coat_ior ? T(specular_ior / coat_ior) : T(coat_ior / specular_ior);
   base[OpenPbr::kSpecularIor] = specular_ior + weight * (relative_ior - specular_ior);
   const Rgb<T> below = OpenPbr::brdf(base.data(), l, v);
 
-  // The coat's lobe and what it lets through.
+  // The coat's lobe at full weight, and the part of the light it reflects from v (1 - throughput
+  // at full weight): both functions of its roughness and ior.
   const double nl = l.z(), nv = v.z();
   const Vec3 h = half_vector(l, v);
-  const T alpha = coat_roughness * coat_roughness;
-  const T fresnel = dielectric_fresnel(v.dot(h), coat_ior);
-  T scale, bias;
-  materialx_ggx_albedo_fit(nv, alpha, scale, bias);
-  const T single_scattering = scale + bias;
-  const T compensation = 1.0 + fresnel * (1.0 - single_scattering) / single_scattering;
-  const T f0_root = (coat_ior - 1.0) / (coat_ior + 1.0), coat_f0 = f0_root * f0_root;
-  const T throughput = 1.0 - weight * (coat_f0 * scale + bias) * compensation;
-  // Isotropic D and G2 in MaterialX's form: D = α²/(π((n·h)²(α² - 1) + 1)²) and
-  // G2/(4 n·l n·v) = 1/(2(λl n·v + λv n·l)), λ = √(α² + (1 - α²)μ²).
-  const T alpha2 = alpha * alpha, ndf_root = h.z() * h.z() * (alpha2 - 1.0) + 1.0;
-  const T lambda_l = sqrt(alpha2 + (1.0 - alpha2) * (nl * nl)), lambda_v = sqrt(alpha2 + (1.0 - alpha2) * (nv * nv));
-  const T lobe =
-      weight * alpha2 * fresnel * compensation / (2.0 * kPi * ndf_root * ndf_root * (lambda_l * nv + lambda_v * nl));
+  auto coat_terms = [&](const auto& rc, const auto& nc, bool want_lobe) {
+    using R = std::decay_t<decltype(rc)>;
+    const R alpha = rc * rc;
+    const R fresnel = dielectric_fresnel(v.dot(h), nc);
+    R scale, bias;
+    materialx_ggx_albedo_fit(nv, alpha, scale, bias);
+    const R single_scattering = scale + bias;
+    const R compensation = 1.0 + fresnel * (1.0 - single_scattering) / single_scattering;
+    if (!want_lobe) {
+      const R f0_root = (nc - 1.0) / (nc + 1.0);
+      return R((f0_root * f0_root * scale + bias) * compensation);
+    }
+    // Isotropic D and G2 in MaterialX's form: D = α²/(π((n·h)²(α² - 1) + 1)²) and
+    // G2/(4 n·l n·v) = 1/(2(λl n·v + λv n·l)), λ = √(α² + (1 - α²)μ²).
+    const R alpha2 = alpha * alpha, ndf_root = h.z() * h.z() * (alpha2 - 1.0) + 1.0;
+    const R lambda_l = sqrt(alpha2 + (1.0 - alpha2) * (nl * nl)), lambda_v = sqrt(alpha2 + (1.0 - alpha2) * (nv * nv));
+    return R(alpha2 * fresnel * compensation / (2.0 * kPi * ndf_root * ndf_root * (lambda_l * nv + lambda_v * nl)));
+  };
+  const T lobe = weight * of_two_parameters(coat_roughness, coat_ior,
+                                            [&](const auto& rc, const auto& nc) { return coat_terms(rc, nc, true); });
+  const T throughput = 1.0 - weight * of_two_parameters(coat_roughness, coat_ior, [&](const auto& rc, const auto& nc) {
+                               return coat_terms(rc, nc, false);
+                             });
 
   // Darkening by the coat's internal reflections (K), and its absorption.
-  const T internal_reflection = 1.0 - (1.0 - coat_f0) / (coat_ior * coat_ior);
+  const T internal_reflection = of_one_parameter(coat_ior, [](const auto& nc) {
+    const auto f0_root = (nc - 1.0) / (nc + 1.0);
+    return 1.0 - (1.0 - f0_root * f0_root) / (nc * nc);
+  });
   Rgb<T> f;
   for (int c = 0; c < 3; ++c) {
     const T rho = p[OpenPbr::kBaseColor + c];
@@ -151,32 +169,42 @@ Rgb<T> openpbr_coat_layer(const T* p, const T* coat, const Vec3& l, const Vec3& 
 // fuzz_roughness (within [0.1, 1]: MaterialX's clamp at 0.01 never acts).
 template <class T>
 Rgb<T> openpbr_fuzz_layer(const Rgb<T>& below, const T* fuzz, const Vec3& l, const Vec3& v) {
-  using std::exp;
   const T &weight = fuzz[0], &sigma = fuzz[4];
   const T* fuzz_color = fuzz + 1;
   const double x = v.z();
 
   // E(n·v, σ): MaterialX's Gaussian in n·v, of width s, centre m and offset o fitted in σ.
-  const T s = sigma * (0.0206607 + 1.58491 * sigma) / (0.0379424 + sigma * (1.32227 + sigma));
-  const T m =
-      sigma * (-0.193854 + sigma * (-1.14885 + sigma * (1.7932 - 0.95943 * sigma * sigma))) / (0.046391 + sigma);
-  const T o = sigma * (0.000654023 + (-0.0207818 + 0.119681 * sigma) * sigma) / (1.26264 + sigma * (-1.92021 + sigma));
-  const T z = (x - m) / s;
-  const T albedo = max0(T(exp(-0.5 * z * z) / (s * std::sqrt(2.0 * kPi)) + o));
+  auto albedo_of = [x](const auto& sigma) {
+    using S = std::decay_t<decltype(sigma)>;
+    using std::exp;
+    const S s = sigma * (0.0206607 + 1.58491 * sigma) / (0.0379424 + sigma * (1.32227 + sigma));
+    const S m =
+        sigma * (-0.193854 + sigma * (-1.14885 + sigma * (1.7932 - 0.95943 * sigma * sigma))) / (0.046391 + sigma);
+    const S o =
+        sigma * (0.000654023 + (-0.0207818 + 0.119681 * sigma) * sigma) / (1.26264 + sigma * (-1.92021 + sigma));
+    const S z = (x - m) / s;
+    return max0(S(exp(-0.5 * z * z) / (s * std::sqrt(2.0 * kPi)) + o));
+  };
 
   // l in the LTC's frame: x along v's tangential direction (any, for v = n), z = n.
-  const double tangential = std::hypot(v.x(), v.y());
+  const double tangential = std::sqrt(v.x() * v.x() + v.y() * v.y());  // v is a unit vector: no hypot needed
   const double cx = tangential > 0.0 ? v.x() / tangential : 1.0, cy = tangential > 0.0 ? v.y() / tangential : 0.0;
   const double wx = l.x() * cx + l.y() * cy, wy = l.y() * cx - l.x() * cy, wz = l.z();
-  const T a_inv = (2.58126 * x + 0.813703 * sigma) * sigma / (1.0 + 0.310327 * x * x + 2.60994 * x * sigma);
-  const T b_inv = std::sqrt(1.0 - x) * (sigma - 1.0) * sigma * sigma * sigma /
-                  (0.0000254053 + 1.71228 * x - 1.71506 * x * sigma + 1.34174 * sigma * sigma);
-  const T ox = a_inv * wx + b_inv * wz, oy = a_inv * wy;
-  const T length2 = ox * ox + oy * oy + wz * wz;
-  const T ratio = a_inv / length2;
-  // D_ltc / (n·l) = (a⁻¹/|w|²)²/π (the transformed cosine's w_z is n·l > 0), times E: the fuzz's BRDF.
-  const T fuzz_brdf = weight * albedo * ratio * ratio * kInvPi;
-  const T through = 1.0 - weight * albedo;
+  // The fuzz's BRDF at full weight, a function of σ alone (terms of one parameter run on Jets of
+  // one derivative, math.h): D_ltc / (n·l) = (a⁻¹/|w|²)²/π (the transformed cosine's w_z is
+  // n·l > 0), times E.
+  const T unit_fuzz_brdf = of_one_parameter(sigma, [&](const auto& sigma) {
+    using S = std::decay_t<decltype(sigma)>;
+    const S a_inv = (2.58126 * x + 0.813703 * sigma) * sigma / (1.0 + 0.310327 * x * x + 2.60994 * x * sigma);
+    const S b_inv = std::sqrt(1.0 - x) * (sigma - 1.0) * sigma * sigma * sigma /
+                    (0.0000254053 + 1.71228 * x - 1.71506 * x * sigma + 1.34174 * sigma * sigma);
+    const S ox = a_inv * wx + b_inv * wz, oy = a_inv * wy;
+    const S length2 = ox * ox + oy * oy + wz * wz;
+    const S ratio = a_inv / length2;
+    return S(albedo_of(sigma) * ratio * ratio * kInvPi);
+  });
+  const T fuzz_brdf = weight * unit_fuzz_brdf;
+  const T through = 1.0 - weight * of_one_parameter(sigma, albedo_of);
   Rgb<T> f;
   for (int c = 0; c < 3; ++c) f[c] = fuzz_color[c] * fuzz_brdf + through * below[c];
   return f;

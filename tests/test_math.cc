@@ -1,0 +1,53 @@
+// The models' scalar helpers (brdffit/math.h) against derivatives written out by hand.
+#include <ceres/jet.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "brdffit/math.h"
+
+namespace brdffit {
+namespace {
+
+using Jet5 = ceres::Jet<double, 5>;
+
+// A term of three parameters with every partial derivative non-zero at the point below.
+auto term = [](const auto& x, const auto& y, const auto& z) {
+  using std::exp;
+  using std::sin;
+  return x * x * sin(y) * exp(z);
+};
+
+TEST(OfParameters, IsTheTermItselfForDoubles) {
+  EXPECT_DOUBLE_EQ(of_parameters(term, 0.7, 1.3, -0.4), 0.49 * std::sin(1.3) * std::exp(-0.4));
+  EXPECT_DOUBLE_EQ(of_one_parameter(0.7, [](double x) { return x * x; }), 0.49);
+}
+
+// Each argument a Jet of five derivatives that depends on several of them: the result's
+// derivatives are the chain rule's Σ ∂f/∂xᵢ · ∂xᵢ/∂slot.
+TEST(OfParameters, PutsTheChainRuleBackOnTheWideJet) {
+  Jet5 x(0.7), y(1.3), z(-0.4);
+  x.v << 1.0, 0.0, 2.0, 0.0, 0.5;
+  y.v << 0.0, 1.0, -1.0, 0.0, 0.0;
+  z.v << 0.0, 0.0, 0.0, 1.0, 3.0;
+  const Jet5 narrow = of_parameters(term, x, y, z);
+  const Jet5 wide = term(x, y, z);
+  const double f = 0.49 * std::sin(1.3) * std::exp(-0.4);
+  const double df_dx = 2.0 * 0.7 * std::sin(1.3) * std::exp(-0.4), df_dy = 0.49 * std::cos(1.3) * std::exp(-0.4),
+               df_dz = f;
+  EXPECT_DOUBLE_EQ(narrow.a, f);
+  for (int slot = 0; slot < 5; ++slot) {
+    const double expected = df_dx * x.v[slot] + df_dy * y.v[slot] + df_dz * z.v[slot];
+    EXPECT_NEAR(narrow.v[slot], expected, 1e-14) << "slot " << slot;
+    EXPECT_NEAR(wide.v[slot], expected, 1e-14) << "slot " << slot;
+  }
+  // Two parameters, and one.
+  const Jet5 two = of_two_parameters(x, y, [](const auto& a, const auto& b) { return a / b; });
+  EXPECT_NEAR(two.v[2], 2.0 / 1.3 - 0.7 / (1.3 * 1.3) * -1.0, 1e-14);
+  const Jet5 one = of_one_parameter(z, [](const auto& a) { return a * a * a; });
+  EXPECT_NEAR(one.v[4], 3.0 * 0.16 * 3.0, 1e-14);
+  EXPECT_EQ(one.v[0], 0.0);
+}
+
+}  // namespace
+}  // namespace brdffit
