@@ -294,6 +294,7 @@ void LeastSquares::build_problem(Refinement& r, std::vector<double>& x, ceres::P
   const size_t batches =
       std::clamp<size_t>(samples_.size() / 2048, 1, static_cast<size_t>(thread_count(options_.threads)) * 16);
   const size_t per_batch = (samples_.size() + batches - 1) / batches;
+  memos_.resize((samples_.size() + per_batch - 1) / per_batch);
   for (size_t begin = 0; begin < samples_.size(); begin += per_batch) {
     ResidualBatch batch;
     batch.samples = samples_.data() + begin;
@@ -303,7 +304,9 @@ void LeastSquares::build_problem(Refinement& r, std::vector<double>& x, ceres::P
     batch.loss = loss_;
     batch.free_index = &r.free_index;
     batch.full_values = &r.values;
-    problem.AddResidualBlock(new_batch_cost(model_, batch), nullptr, x.data());
+    problem.AddResidualBlock(
+        new MemoizedCost(new_batch_cost(model_, batch), r.values, r.free_index, memos_[begin / per_batch]), nullptr,
+        x.data());
   }
   const std::vector<ValueSlot> slots = value_slots(model_);
   for (size_t k = 0; k < x.size(); ++k) {

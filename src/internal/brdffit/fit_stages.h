@@ -17,6 +17,7 @@
 #include "brdffit/error.h"
 #include "brdffit/fit.h"
 #include "brdffit/fit_objective.h"
+#include "brdffit/memoized_cost.h"
 #include "brdffit/model.h"
 #include "brdffit/samples.h"
 
@@ -196,6 +197,10 @@ class LeastSquares {
   Channels channels_;
   const ceres::LossFunction* loss_;
   const FitOptions& options_;
+
+  // The last evaluations of each batch of samples: every run over these samples cuts them into the
+  // same batches (build_problem).
+  mutable std::vector<CostMemo> memos_;
 };
 
 // ---------------------------------------------------------------------------------------------
