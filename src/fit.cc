@@ -162,12 +162,20 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
   // on all samples already (`cost_known`: a run on all samples ends with it).
   std::vector<Refinement> candidates;
   const std::vector<ValueSlot> slots = value_slots(model);
-  auto keep = [&](Refinement r, bool cost_known = false) {
+  // The absolute errors on all samples of the subsample's best start (at `errors_at`), which the
+  // importance subsets below are drawn from: computed with its cost on all samples, in one pass.
+  const bool draws_subsets = !options.single_start && small.size() * 10 < data.size();
+  std::vector<double> best_errors, errors_at;
+  auto keep = [&](Refinement r, bool cost_known = false, bool with_errors = false) {
     if (!r.usable) return;
     if (std::any_of(candidates.begin(), candidates.end(),
                     [&](const Refinement& c) { return same_optimum(slots, c.values, r.values); }))
       return;
-    if (!cost_known) {
+    if (with_errors) {
+      r.cost = 0.5 * cost_and_absolute_errors(model, r.values, data.samples, options.metric, channels, loss.get(),
+                                              threads, best_errors);
+      errors_at = r.values;
+    } else if (!cost_known) {
       double best_kept = HUGE_VAL;
       for (const Refinement& c : candidates) best_kept = std::min(best_kept, c.cost);
       r.cost = full_cost(r.values, best_kept);
@@ -222,8 +230,9 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
       // A start that ended where an earlier one did is not costed on all samples again.
       const bool ended_before =
           std::any_of(screened.data(), &r, [&](const Refinement& earlier) { return same_cost(earlier.cost, r.cost); });
-      if (!small_is_all && !ended_before) keep(r);
-      if (r.cost < best.cost) best = r;
+      const bool best_so_far = r.cost < best.cost;
+      if (!small_is_all && !ended_before) keep(r, /*cost_known=*/false, /*with_errors=*/best_so_far && draws_subsets);
+      if (best_so_far) best = r;
       clock.lap("candidate costs");
     }
     if (!best.usable) {
@@ -239,7 +248,10 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
   if (!options.single_start)
     for (size_t draws = small.size() * 10; draws < data.size(); draws *= 10) {
       std::vector<Sample> subset = importance_subset(
-          data.samples, draws, options.seed, absolute_errors(model, best.values, data.samples, channels, threads));
+          data.samples, draws, options.seed,
+          errors_at == best.values ? std::move(best_errors)
+                                   : absolute_errors(model, best.values, data.samples, channels, threads));
+      errors_at.clear();
       clock.lap("subset draws");
       const LeastSquares on_subset(model, subset, options.metric, channels, loss.get(), options);
       Refinement r = on_subset.run(best.values, options.max_iterations, 1e-6, 0.0, best.usable ? &best : nullptr);

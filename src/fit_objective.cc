@@ -25,11 +25,13 @@ size_t bit_reversed(size_t order, size_t chunks) {
 // The one loop over a fit's residuals: calls visit(chunk, r) for every sample and fitted
 // channel with r = metric residual · √weight, over `chunks` (a power of two) ranges of the
 // samples in parallel, taken in bit-reversed order, and chunk_done(chunk) after each. A chunk
-// not started when give_up() holds is skipped.
-template <class Visit, class ChunkDone, class GiveUp>
-void for_each_residual(const Model& model, const std::vector<double>& values, const std::vector<Sample>& samples,
-                       Metric metric, const Channels& channels, size_t chunks, int threads, Visit&& visit,
-                       ChunkDone&& chunk_done, GiveUp&& give_up) {
+// not started when give_up() holds is skipped. Each sample's shaded value is also shown to
+// seen(i, shade).
+template <class Visit, class ChunkDone, class GiveUp, class Seen = void (*)(size_t, const Rgb<double>&)>
+void for_each_residual(
+    const Model& model, const std::vector<double>& values, const std::vector<Sample>& samples, Metric metric,
+    const Channels& channels, size_t chunks, int threads, Visit&& visit, ChunkDone&& chunk_done, GiveUp&& give_up,
+    Seen&& seen = [](size_t, const Rgb<double>&) {}) {
   const size_t per_chunk = (samples.size() + chunks - 1) / chunks;
   parallel_for(chunks, threads, [&](size_t order) {
     if (give_up()) return;
@@ -39,6 +41,7 @@ void for_each_residual(const Model& model, const std::vector<double>& values, co
     for (size_t i = begin; i < end; ++i) {
       const Sample& s = samples[i];
       const Rgb<double> shade = model.shade(values.data(), s.l, s.v);
+      seen(i, shade);
       const double sqrt_w = std::sqrt(metric_weight(metric, s.weight));
       for (int c = 0; c < 3; ++c)
         if (channels[c]) visit(chunk, metric_residual(metric, shade[c], s.value[c]) * sqrt_w);
@@ -47,10 +50,19 @@ void for_each_residual(const Model& model, const std::vector<double>& values, co
   });
 }
 
-}  // namespace
+// |prediction − measurement| of one sample, averaged over the fitted channels (0 where not finite).
+double absolute_error(const Rgb<double>& shade, const Sample& s, const Channels& channels) {
+  double sum = 0.0;
+  for (int c = 0; c < 3; ++c)
+    if (channels[c]) sum += std::fabs(shade[c] - s.value[c]);
+  return std::isfinite(sum) ? sum / static_cast<double>(std::count(channels.begin(), channels.end(), true)) : 0.0;
+}
 
-double cost_of(const Model& model, const std::vector<double>& values, const std::vector<Sample>& samples, Metric metric,
-               const Channels& channels, const ceres::LossFunction* loss, int threads, double give_up_above) {
+// cost_of, showing each sample's shaded value to seen(i, shade).
+template <class Seen>
+double summed_cost(const Model& model, const std::vector<double>& values, const std::vector<Sample>& samples,
+                   Metric metric, const Channels& channels, const ceres::LossFunction* loss, int threads,
+                   double give_up_above, Seen&& seen) {
   // Chunks even on one thread: the sum then does not depend on the number of threads.
   const size_t chunks = samples.size() >= 50000 ? 64 : 1;
   std::vector<double> partial(chunks, 0.0);
@@ -67,13 +79,31 @@ double cost_of(const Model& model, const std::vector<double>& values, const std:
         partial[chunk] += r * r;
       },
       [&](size_t chunk) {
-        for (double seen = done.load(); !done.compare_exchange_weak(seen, seen + partial[chunk]);) {
+        for (double seen_so_far = done.load();
+             !done.compare_exchange_weak(seen_so_far, seen_so_far + partial[chunk]);) {
         }
       },
-      passed);
+      passed, seen);
   if (passed()) return done.load();
   const double sum = std::accumulate(partial.begin(), partial.end(), 0.0);
   return std::isfinite(sum) ? sum : HUGE_VAL;
+}
+
+}  // namespace
+
+double cost_of(const Model& model, const std::vector<double>& values, const std::vector<Sample>& samples, Metric metric,
+               const Channels& channels, const ceres::LossFunction* loss, int threads, double give_up_above) {
+  return summed_cost(model, values, samples, metric, channels, loss, threads, give_up_above,
+                     [](size_t, const Rgb<double>&) {});
+}
+
+double cost_and_absolute_errors(const Model& model, const std::vector<double>& values,
+                                const std::vector<Sample>& samples, Metric metric, const Channels& channels,
+                                const ceres::LossFunction* loss, int threads, std::vector<double>& errors) {
+  errors.resize(samples.size());
+  return summed_cost(
+      model, values, samples, metric, channels, loss, threads, HUGE_VAL,
+      [&](size_t i, const Rgb<double>& shade) { errors[i] = absolute_error(shade, samples[i], channels); });
 }
 
 double median_abs_residual(const Model& model, const std::vector<double>& values, const std::vector<Sample>& samples,
@@ -92,15 +122,9 @@ double median_abs_residual(const Model& model, const std::vector<double>& values
 std::vector<double> absolute_errors(const Model& model, const std::vector<double>& values,
                                     const std::vector<Sample>& samples, const Channels& channels, int threads) {
   std::vector<double> error(samples.size());
-  const int fitted = static_cast<int>(std::count(channels.begin(), channels.end(), true));
   parallel_chunks(samples.size(), 64, threads, [&](size_t begin, size_t end, size_t) {
-    for (size_t i = begin; i < end; ++i) {
-      const Rgb<double> shade = model.shade(values.data(), samples[i].l, samples[i].v);
-      double sum = 0.0;
-      for (int c = 0; c < 3; ++c)
-        if (channels[c]) sum += std::fabs(shade[c] - samples[i].value[c]);
-      error[i] = std::isfinite(sum) ? sum / fitted : 0.0;
-    }
+    for (size_t i = begin; i < end; ++i)
+      error[i] = absolute_error(model.shade(values.data(), samples[i].l, samples[i].v), samples[i], channels);
   });
   return error;
 }

@@ -38,6 +38,13 @@ double median_abs_residual(const Model& model, const std::vector<double>& values
 std::vector<double> absolute_errors(const Model& model, const std::vector<double>& values,
                                     const std::vector<Sample>& samples, const Channels& channels, int threads);
 
+// cost_of (never given up) and absolute_errors, the same values bit for bit, from one evaluation of
+// the model per sample: the fitter costs its subsample's best start on all samples and then draws
+// its importance subset from that start's errors.
+double cost_and_absolute_errors(const Model& model, const std::vector<double>& values,
+                                const std::vector<Sample>& samples, Metric metric, const Channels& channels,
+                                const ceres::LossFunction* loss, int threads, std::vector<double>& errors);
+
 // The error, in the metric, of a model predicting zero everywhere: the data's own scale, which
 // a fit's error is judged against.
 double zero_prediction_error(const SampleSet& data, Metric metric);
