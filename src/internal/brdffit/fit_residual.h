@@ -14,6 +14,9 @@
 //
 // A robust loss ρ is applied per sample-channel by replacing r with √ρ(r²) (and its
 // derivative), so outliers are down-weighted sample by sample, not batch by batch.
+//
+// LeastSquares (least_squares.cc) hands Ceres each batch's cost wrapped in a MemoizedCost
+// (memoized_cost.h), which answers again for the values the batch was last evaluated at.
 #pragma once
 
 #include <ceres/ceres.h>
