@@ -15,6 +15,7 @@
 #include <ctime>
 #include <functional>
 #include <map>
+#include <optional>
 #include <set>
 
 #include "brdffit/error.h"
@@ -37,6 +38,7 @@ namespace {
 // on ALL samples.
 struct ChannelFit {
   Refinement final;
+  std::optional<Metrics> metrics;  // at final.values, where the fit computed them with its cost
   int iterations = 0;
   size_t residuals = 0;
   std::vector<StageProfile> stages;
@@ -101,9 +103,17 @@ bool subset_stood_in(const Refinement& candidate, const Refinement& subset_optim
          std::fabs(candidate.cost - subset_optimum.cost) <= kSubsetAgreement * candidate.cost;
 }
 
+// A contained model's optimum in this model's values, with its objective on all samples where
+// that is known already (an exact nesting reproduces the contained model's shaded values, whose
+// fit has costed them: fit_models); NaN where it is not.
+struct NestedStart {
+  std::vector<double> values;
+  double cost = NAN;
+};
+
 ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& subsamples, const FitOptions& options,
                         const Channels& channels, const std::vector<double>& initial,
-                        const std::vector<std::vector<double>>& nested_starts) {
+                        const std::vector<NestedStart>& nested_starts) {
   ChannelFit fit;
   StageClock clock(fit);
   const int threads = thread_count(options.threads);
@@ -150,9 +160,10 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
     }
     clock.lap("coordinate search");
     // The contained models' optima are refined too: the multi-start grid may not come near them.
-    for (std::vector<double> nested : nested_starts) {
-      const double cost = solved_cost(model, nested, small, options.metric, channels);
-      starts.push_back({std::move(nested), cost});
+    for (const NestedStart& nested : nested_starts) {
+      std::vector<double> values = nested.values;
+      const double cost = solved_cost(model, values, small, options.metric, channels);
+      starts.push_back({std::move(values), cost});
     }
   }
 
@@ -177,36 +188,48 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
   // choosing on all samples discards such a stage, and keeping the contained models' optima
   // among the candidates means the result is never worse than theirs. A candidate at the same
   // optimum as one kept already (same_optimum) is not costed again, nor one whose cost is known
-  // on all samples already (`cost_known`: a run on all samples ends with it).
+  // on all samples already (Costing::Known: a run on all samples ends with it).
   std::vector<Refinement> candidates;
   const std::vector<ValueSlot> slots = value_slots(model);
   // The absolute errors on all samples of the subsample's best start (at `errors_at`), which the
   // importance subsets below are drawn from: computed with its cost on all samples, in one pass.
   const bool draws_subsets = !options.single_start && small.size() * 10 < data.size();
   std::vector<double> best_errors, errors_at;
-  auto keep = [&](Refinement r, bool cost_known = false, bool with_errors = false) {
+  // The metrics of the last candidate costed with them (at `metrics_at`): where the objective
+  // follows from them (every channel, no robust loss: metric_weight_sum), the last candidate's
+  // cost and the metrics fit_one reports of the fit, which nearly always ends there, in one pass.
+  const bool costs_from_metrics = channels == kAllChannels && !loss && !options.per_channel;
+  std::optional<Metrics> metrics;
+  std::vector<double> metrics_at;
+  enum class Costing { Alone, Known, WithErrors, WithMetrics };
+  auto keep = [&](Refinement r, Costing costing = Costing::Alone) {
     if (!r.usable) return;
     if (std::any_of(candidates.begin(), candidates.end(),
                     [&](const Refinement& c) { return same_optimum(slots, c.values, r.values); }))
       return;
-    if (with_errors) {
+    if (costing == Costing::WithErrors) {
       r.cost = 0.5 * cost_and_absolute_errors(model, r.values, data.samples, options.metric, channels, loss.get(),
                                               threads, best_errors);
       errors_at = r.values;
-    } else if (!cost_known) {
+    } else if (costing == Costing::WithMetrics && costs_from_metrics) {
+      metrics = evaluate_metrics(model, r.values, data);
+      r.cost = 0.5 * std::pow(metrics->get(options.metric), 2) * metric_weight_sum(data.samples, options.metric);
+      metrics_at = r.values;
+    } else if (costing != Costing::Known) {
       double best_kept = HUGE_VAL;
       for (const Refinement& c : candidates) best_kept = std::min(best_kept, c.cost);
       r.cost = full_cost(r.values, best_kept);
     }
     if (std::isfinite(r.cost)) candidates.push_back(std::move(r));
   };
-  for (const std::vector<double>& nested : nested_starts) {
+  for (const NestedStart& nested : nested_starts) {
     Refinement r;
-    r.values = nested;
+    r.values = nested.values;
     r.usable = true;
     r.termination = "the optimum of a contained model";
     r.free_index = on_all.free_values();
-    keep(std::move(r));
+    r.cost = nested.cost;
+    keep(std::move(r), std::isfinite(nested.cost) ? Costing::Known : Costing::Alone);
   }
   clock.lap("nested starts");
 
@@ -249,7 +272,7 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
       const bool ended_before =
           std::any_of(screened.data(), &r, [&](const Refinement& earlier) { return same_cost(earlier.cost, r.cost); });
       const bool best_so_far = r.cost < best.cost;
-      if (!small_is_all && !ended_before) keep(r, /*cost_known=*/false, /*with_errors=*/best_so_far && draws_subsets);
+      if (!small_is_all && !ended_before) keep(r, best_so_far && draws_subsets ? Costing::WithErrors : Costing::Alone);
       if (best_so_far) best = r;
       clock.lap("candidate costs");
     }
@@ -337,11 +360,11 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
         r.termination =
             fmt::format("polished: {} steps on all samples after converging on an importance subset of {} draws",
                         r.iterations, largest_draws);
-      keep(r, /*cost_known=*/true);
+      keep(r, Costing::Known);
       if (!r.usable && candidates.empty()) best = std::move(r);  // reported as the failure it is
     }
   } else {
-    keep(best, /*cost_known=*/true);  // the subsample is all samples
+    keep(best, Costing::Known);  // the subsample is all samples
   }
   const auto cheapest = [&] {
     return *std::min_element(candidates.begin(), candidates.end(),
@@ -353,8 +376,9 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
     // a bright peak can be a diffuse albedo a percent off its least-squares value.
     Refinement exact = cheapest();
     solve_linear(model, exact.values, data.samples, options.metric, channels);
-    keep(std::move(exact));
+    keep(std::move(exact), Costing::WithMetrics);
     best = cheapest();
+    if (metrics && metrics_at == best.values) fit.metrics = std::move(metrics);
   }
   clock.lap("candidate costs");
   // JᵀJ at the optimum: over all samples, or estimated from the large importance subset (its
@@ -433,8 +457,13 @@ void mark_orientation_unidentifiable(FitResult& result, const Model& model) {
 }
 
 // A contained model's optimum in the outer model's values, one vector per channel (the three
-// are equal unless the contained model was fitted per channel).
+// are equal unless the contained model was fitted per channel), and its objective on all samples
+// over every channel where it is known (NestedStart).
 using ChannelVectors = std::array<std::vector<double>, 3>;
+struct NestedOptimum {
+  ChannelVectors values;
+  double cost = NAN;
+};
 
 void check_fit_input(const SampleSet& data) {
   if (data.empty()) fail("{}: no samples to fit", data.source.empty() ? "input" : data.source);
@@ -445,7 +474,7 @@ void check_fit_input(const SampleSet& data) {
 // fit first fits the shared model and starts each channel from it, so it contains the shared
 // fit as well.
 FitResult fit_one(const Model& model, const SampleSet& data, Subsamples& subsamples, const FitOptions& options,
-                  const std::vector<ChannelVectors>& nested) {
+                  const std::vector<NestedOptimum>& nested) {
   const auto started = std::chrono::steady_clock::now();
   FitResult result;
   result.model = model.name();
@@ -454,10 +483,11 @@ FitResult fit_one(const Model& model, const SampleSet& data, Subsamples& subsamp
     fail("{}: {} initial values given, the model has {}", model.name(), options.initial_values.size(),
          model.num_values());
   const std::vector<double> initial = options.initial_values.empty() ? model.default_values() : options.initial_values;
+  // A fit of one channel has another objective than the one known for every channel.
   auto nested_for = [&](int channel) {
-    std::vector<std::vector<double>> starts;
+    std::vector<NestedStart> starts;
     if (!options.single_start)
-      for (const ChannelVectors& n : nested) starts.push_back(n[channel]);
+      for (const NestedOptimum& n : nested) starts.push_back({n.values[channel], options.per_channel ? NAN : n.cost});
     return starts;
   };
 
@@ -475,16 +505,16 @@ FitResult fit_one(const Model& model, const SampleSet& data, Subsamples& subsamp
   if (!options.per_channel) {
     record(fit_channels(model, data, subsamples, options, kAllChannels, initial, nested_for(0)));
   } else {
-    std::vector<std::vector<double>> shared_starts;
+    std::vector<NestedStart> shared_starts;
     for (int c = 0; c < 3; ++c)
-      for (std::vector<double>& s : nested_for(c)) shared_starts.push_back(std::move(s));
+      for (NestedStart& s : nested_for(c)) shared_starts.push_back(std::move(s));
     const ChannelFit shared = fit_channels(model, data, subsamples, options, kAllChannels, initial, shared_starts);
     count(shared);
     for (int c = 0; c < 3; ++c) {
       Channels mask{false, false, false};
       mask[c] = true;
-      std::vector<std::vector<double>> starts = nested_for(c);
-      if (shared.final.usable) starts.push_back(shared.final.values);
+      std::vector<NestedStart> starts = nested_for(c);
+      if (shared.final.usable) starts.push_back({shared.final.values});
       record(fit_channels(model, data, subsamples, options, mask, shared.final.usable ? shared.final.values : initial,
                           starts));
     }
@@ -506,7 +536,9 @@ FitResult fit_one(const Model& model, const SampleSet& data, Subsamples& subsamp
   }
   report_parameters(model, fits, options.per_channel, result);
   if (data.isotropic) mark_orientation_unidentifiable(result, model);
-  result.metrics = evaluate_metrics(model, result.values, data, result.channel_values);
+  result.metrics = !options.per_channel && fits[0].metrics
+                       ? *fits[0].metrics
+                       : evaluate_metrics(model, result.values, data, result.channel_values);
 
   const bool finite =
       std::all_of(result.values.begin(), result.values.end(), [](double v) { return std::isfinite(v); }) &&
@@ -528,7 +560,7 @@ namespace {
 
 // fit_one, with a fit that goes wrong reported as failed rather than thrown.
 FitResult fit_or_failure(const Model& model, const SampleSet& data, Subsamples& subsamples, const FitOptions& options,
-                         const std::vector<ChannelVectors>& nested) {
+                         const std::vector<NestedOptimum>& nested) {
   FitResult result;
   try {
     result = fit_one(model, data, subsamples, options, nested);
@@ -594,16 +626,18 @@ FitResult in_isotropic_form(const Model& model, const Nesting& form, const Model
 
 // `nested`: the contained models' optima in the full model's values.
 FitResult fit_held(const HeldModel& held, const SampleSet& data, Subsamples& subsamples, const FitOptions& options,
-                   const std::vector<ChannelVectors>& nested = {}) {
+                   const std::vector<NestedOptimum>& nested = {}) {
   FitOptions own = options;
   const int full_count = held.num_values() + held.held_count();
   if (!own.initial_values.empty() && static_cast<int>(own.initial_values.size()) != full_count)
     fail("{}: {} initial values given, the model has {}", held.name(), own.initial_values.size(), full_count);
   if (!own.initial_values.empty()) own.initial_values = held.free_values(own.initial_values);
-  std::vector<ChannelVectors> free_nested;
-  for (const ChannelVectors& start : nested) {
-    ChannelVectors free;
-    for (int c = 0; c < 3; ++c) free[c] = held.free_values(start[c]);
+  std::vector<NestedOptimum> free_nested;
+  for (const NestedOptimum& start : nested) {
+    NestedOptimum free;
+    for (int c = 0; c < 3; ++c) free.values[c] = held.free_values(start.values[c]);
+    // Its cost holds where the held values are those the start had.
+    if (held.full_values(free.values[0].data()) == start.values[0]) free.cost = start.cost;
     free_nested.push_back(std::move(free));
   }
   return held.full_result(fit_or_failure(held, data, subsamples, own, free_nested));
@@ -639,6 +673,13 @@ std::vector<FitResult> fit_models(const std::vector<const Model*>& models, const
   std::map<std::string, FitResult> fitted;
   Subsamples subsamples(data);
   std::set<std::string> in_progress;
+  // A fit's objective on all samples from its error (metric_weight_sum): where no robust loss
+  // reweights the residuals and no channel has values of its own. NaN elsewhere.
+  const double weight_sum = metric_weight_sum(data.samples, options.metric);
+  auto objective_of = [&](const FitResult& r) {
+    const bool known = options.loss == LossKind::None && !options.per_channel && r.channel_values.empty();
+    return known ? 0.5 * std::pow(r.metrics.get(options.metric), 2) * weight_sum : NAN;
+  };
   auto requested = [&](const std::string& name) {
     return std::any_of(models.begin(), models.end(), [&](const Model* m) { return m->name() == name; });
   };
@@ -647,16 +688,19 @@ std::vector<FitResult> fit_models(const std::vector<const Model*>& models, const
   std::function<const FitResult&(const Model&)> fit = [&](const Model& model) -> const FitResult& {
     if (auto it = fitted.find(model.name()); it != fitted.end()) return it->second;
     in_progress.insert(model.name());
-    std::vector<ChannelVectors> nested;
+    std::vector<NestedOptimum> nested;
     for (const Nesting& nesting : model.nestings()) {
       const Model* inner = find_model(nesting.inner);
       if (!inner || in_progress.count(inner->name())) continue;
       if (!nesting.exact && !requested(inner->name()) && !fitted.count(inner->name())) continue;
       const FitResult& r = fit(*inner);
       if (!r.ok) continue;
-      ChannelVectors embedded;
+      NestedOptimum embedded;
       for (int c = 0; c < 3; ++c)
-        embedded[c] = embed_values(model, nesting, *inner, r.channel_values.empty() ? r.values : r.channel_values[c]);
+        embedded.values[c] =
+            embed_values(model, nesting, *inner, r.channel_values.empty() ? r.values : r.channel_values[c]);
+      // An exact nesting's values shade as the contained model's optimum: its cost is that fit's.
+      if (nesting.exact) embedded.cost = objective_of(r);
       nested.push_back(std::move(embedded));
     }
     // A start given in the options is the requested models'; contained models fitted on the

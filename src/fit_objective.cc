@@ -129,6 +129,12 @@ std::vector<double> absolute_errors(const Model& model, const std::vector<double
   return error;
 }
 
+double metric_weight_sum(const std::vector<Sample>& samples, Metric metric) {
+  double sum = 0.0;
+  for (const Sample& s : samples) sum += 3.0 * metric_weight(metric, s.weight);
+  return sum;
+}
+
 double zero_prediction_error(const SampleSet& data, Metric metric) {
   double sum = 0.0, weight = 0.0;
   for (const Sample& s : data.samples)

@@ -192,5 +192,29 @@ TEST(FitObjective, CostAndAbsoluteErrorsInOnePassAreThoseOfTheTwo) {
   }
 }
 
+// fit_models takes a contained model's objective on all samples from its reported error (an exact
+// nesting's start is not costed again): ½·error²·metric_weight_sum must be ½ cost_of in every
+// metric, the metrics' weighted RMS and the fitter's sum computed apart (metrics.cc and
+// fit_objective.cc).
+TEST(FitObjective, TheObjectiveOfEveryChannelFollowsFromTheReportedError) {
+  const Model& ggx = *find_model("ggx");
+  std::mt19937_64 rng(8);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  SampleSet data;
+  for (int i = 0; i < 5000; ++i) {
+    const Vec3 l = test::random_upper_direction(rng, 0.05), v = test::random_upper_direction(rng, 0.05);
+    data.samples.push_back({l, v, Rgb<double>(unit(rng), 0.5 * unit(rng), 2.0 * unit(rng)), 0.2 + unit(rng)});
+  }
+  const std::vector<double> values = {0.3, 0.2, 0.1, 0.25, 0.04, 0.05, 0.06};  // albedo, roughness, f0
+  const Metrics metrics = evaluate_metrics(ggx, values, data);
+  for (Metric metric : {Metric::Cosine, Metric::Log, Metric::Relative, Metric::L2}) {
+    SCOPED_TRACE(metric_name(metric));
+    const double objective = 0.5 * cost_of(ggx, values, data.samples, metric, kAllChannels, nullptr);
+    ASSERT_GT(objective, 0.0);
+    EXPECT_NEAR(0.5 * std::pow(metrics.get(metric), 2) * metric_weight_sum(data.samples, metric), objective,
+                1e-12 * objective);
+  }
+}
+
 }  // namespace
 }  // namespace brdffit

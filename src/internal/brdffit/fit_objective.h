@@ -45,6 +45,11 @@ double cost_and_absolute_errors(const Model& model, const std::vector<double>& v
                                 const std::vector<Sample>& samples, Metric metric, const Channels& channels,
                                 const ceres::LossFunction* loss, int threads, std::vector<double>& errors);
 
+// Σ over samples and all three channels of the metric's sample weight: a fit's objective over every
+// channel without a robust loss, ½ cost_of, is ½·error²·this, its error in the metric (Metrics)
+// being the weighted RMS of the same residuals.
+double metric_weight_sum(const std::vector<Sample>& samples, Metric metric);
+
 // The error, in the metric, of a model predicting zero everywhere: the data's own scale, which
 // a fit's error is judged against.
 double zero_prediction_error(const SampleSet& data, Metric metric);
