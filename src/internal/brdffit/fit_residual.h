@@ -158,14 +158,33 @@ class BatchCost final : public ceres::CostFunction {
  private:
   // Shades the batch's samples with the Jets p and sums, per fitted channel, the upper triangle of
   // JᵀJ and Jᵀr over the Jets' derivative slots; returns Σ r² (robustified).
+  //
+  // The gradients are gathered kBlock at a time, and each channel's JᵀJ takes one rank-k update per
+  // block (a matrix product) instead of a rank-1 update per sample: Eigen's rank-1 update of a small
+  // fixed-size matrix is an out-of-line call per row, 8 % of an sgd fit. One derivative keeps the
+  // rank-1 update: Eigen would take its 1 × k block for a vector.
   template <int N>
   double accumulate(const ceres::Jet<double, N>* p, std::array<Eigen::Matrix<double, N, N>, 3>& jtj,
                     std::array<Eigen::Matrix<double, N, 1>, 3>& jtr) const {
     using NJet = ceres::Jet<double, N>;
+    constexpr int kBlock = N > 1 ? 32 : 1;
     for (int c = 0; c < 3; ++c) {
       jtj[c].setZero();
       jtr[c].setZero();
     }
+    std::array<Eigen::Matrix<double, N, kBlock>, 3> grads;
+    std::array<Eigen::Matrix<double, kBlock, 1>, 3> values;
+    std::array<int, 3> gathered{0, 0, 0};
+    auto add_block = [&](int c) {
+      const int k = gathered[c];
+      if constexpr (kBlock == 1) {
+        jtj[c].template selfadjointView<Eigen::Upper>().rankUpdate(grads[c].col(0));
+      } else {
+        jtj[c].template selfadjointView<Eigen::Upper>().rankUpdate(grads[c].leftCols(k));
+      }
+      jtr[c] += grads[c].leftCols(k) * values[c].head(k);
+      gathered[c] = 0;
+    };
     double rr = 0.0;
     for (size_t i = 0; i < batch_.count; ++i) {
       const Sample& s = batch_.samples[i];
@@ -176,12 +195,14 @@ class BatchCost final : public ceres::CostFunction {
         const NJet r = metric_residual(batch_.metric, shade[c], s.value[c]) * sqrt_w;
         double value, scale;
         detail::robustify(batch_.loss, r.a, value, scale);
-        const Eigen::Matrix<double, N, 1> grad = r.v * scale;
         rr += value * value;
-        jtr[c] += value * grad;
-        jtj[c].template selfadjointView<Eigen::Upper>().rankUpdate(grad);
+        grads[c].col(gathered[c]) = r.v * scale;
+        values[c][gathered[c]] = value;
+        if (++gathered[c] == kBlock) add_block(c);
       }
     }
+    for (int c = 0; c < 3; ++c)
+      if (gathered[c] > 0) add_block(c);
     return rr;
   }
 
