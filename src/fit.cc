@@ -302,7 +302,10 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
       subset_optimum = r;
       if (r.usable) {
         best = r;
-        keep(std::move(r));
+        // A larger subset follows (a table whose subsample hit few distinct samples): it is drawn
+        // from this optimum's errors, which its cost on all samples gives in the same pass.
+        const bool another_subset = draws * 10 < data.size();
+        keep(std::move(r), another_subset ? Costing::WithErrors : Costing::Alone);
       }
       clock.lap("candidate costs");
       largest_draws = draws;
