@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# Installs what is missing, checks the code's format, builds brdffit and runs the test suite
+# Installs what is missing, checks the code's format, builds brdffit and runs the numerical tests
 # (ctest, then the Python module's pytest suite); then builds it with AddressSanitizer and
-# UndefinedBehaviorSanitizer and runs the tests whose code paths differ under them (every test but
-# the numerically heavy ones, tests/CMakeLists.txt; skip with --no-sanitize). At the end: each
+# UndefinedBehaviorSanitizer and runs the other tests, whose code paths differ under them
+# (tests/CMakeLists.txt). With --no-sanitize, every test in the first build only. At the end: each
 # phase's wall time, the skipped tests and the ten slowest tests. Under CI (CI set to anything but
 # empty) a Python module that was not built, or a skip that tests/allowed_skips.txt does not list,
 # fails the run.
@@ -64,7 +64,14 @@ timed "format check" check_format
 
 # Replays: in the sanitizer build. The benchmarks (bench/, not tests) are left to the default
 # build, which every developer's `cmake -S . -B build` makes: here they were 30 s of the 15 minutes.
-timed "Release build" configure_and_build build -DBRDFFIT_FUZZ_REPLAY=OFF -DBRDFFIT_BUILD_BENCH=OFF
+# Each test runs once, in the build that suits it (tests/CMakeLists.txt): the numerical ones here,
+# the others under the sanitizers; without those, all of them here.
+sanitize=true
+[[ "${1:-}" == "--no-sanitize" ]] && sanitize=false
+release_tests=numerical
+$sanitize || release_tests=all
+timed "Release build" configure_and_build build -DBRDFFIT_FUZZ_REPLAY=OFF -DBRDFFIT_BUILD_BENCH=OFF \
+  -DBRDFFIT_TEST_FILES=$release_tests
 timed "Release suite (ctest)" run_ctest build
 reports=("Release suite=build/ctest.junit.xml")
 if [[ -x build/python/pytest.sh ]]; then
@@ -77,10 +84,10 @@ elif [[ -n "${CI:-}" ]]; then
 else
   echo "== Python module not built (see 'Python module' in build.configure.log): pytest skipped"
 fi
-if [[ "${1:-}" != "--no-sanitize" ]]; then
-  echo "== again with AddressSanitizer + UndefinedBehaviorSanitizer"
+if $sanitize; then
+  echo "== the other tests with AddressSanitizer + UndefinedBehaviorSanitizer"
   timed "sanitizer build" configure_and_build build-asan -DBRDFFIT_SANITIZE=ON -DBRDFFIT_BUILD_BENCH=OFF \
-    -DBRDFFIT_PYTHON=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo
+    -DBRDFFIT_PYTHON=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo -DBRDFFIT_TEST_FILES=other
   ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 timed "sanitizer suite (ctest)" run_ctest build-asan
   reports+=("sanitizer suite=build-asan/ctest.junit.xml")
   ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 timed "fuzz corpora (replay)" \

@@ -16,6 +16,12 @@
 
 namespace brdffit::test {
 
+// The sphere tests' material: GGX with a coloured albedo and F0.
+inline const Model& ggx() { return *find_model("ggx"); }
+inline std::vector<double> ggx_truth() {
+  return parameter_values(ggx(), {"albedo=0.5,0.35,0.2", "roughness=0.3", "f0=0.04,0.05,0.06"});
+}
+
 // `count` light directions around the view direction, at polar angles up to max_angle_deg,
 // spread in azimuth (a golden-angle spiral) like a photometric-stereo dome.
 inline std::vector<Vec3> dome_lights(int count, double max_angle_deg = 50.0) {

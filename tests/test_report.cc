@@ -1,18 +1,13 @@
 // report: a page built from a real batch (two baked MERL tables and a CSV of samples), every
-// image a valid PNG, and Debian's headless Chromium loading it without a missing image.
+// image a valid PNG, the error panels' scales, the page of a sphere fit (the pictures compared
+// pixel by pixel and Chromium loading the page: test_report_pictures.cc).
 #include <gtest/gtest.h>
 
-#include <openssl/evp.h>
-#include <cstdio>
 #include <filesystem>
 
-#include <opencv2/imgcodecs.hpp>
-
-#include "batch_test_util.h"
 #include "brdffit/imaging/image_io.h"
 #include "brdffit/imaging/render.h"
-#include "brdffit/merl.h"
-#include "brdffit/registry.h"
+#include "report_test_util.h"
 #include "sphere_scenes.h"
 
 namespace brdffit {
@@ -20,73 +15,7 @@ namespace brdffit {
 namespace fs = std::filesystem;
 namespace {
 
-class Report : public ::testing::Test {
- protected:
-  // One batch and one page for every test here (ctest runs each test on its own, so each pays
-  // for them: small pictures keep that to seconds).
-  static void SetUpTestSuite() {
-    dir_ = test::fresh_dir("report");
-    fs::create_directories(dir_ + "/tables");
-    bake(dir_ + "/tables/plastic.binary", "ggx", {"albedo=0.25,0.1,0.05", "roughness=0.3", "f0=0.04"});
-    bake(dir_ + "/tables/brushed.binary", "ward", {"albedo=0.05", "specular=0.3,0.25,0.1", "alpha=0.15"});
-    test::write_model_csv(dir_ + "/tables/samples.csv", "lambert", {"albedo=0.4,0.4,0.2"});
-    batch_ = test::run_cli("batch " + dir_ + "/tables --models ggx,lambert,ward --max-samples 20000 --out " + dir_ +
-                           "/fits");
-    report_ = test::run_cli("report " + dir_ + "/fits --size 64 --out " + dir_ + "/report.html");
-  }
-
-  static void bake(const std::string& path, const std::string& model_name,
-                   const std::vector<std::string>& assignments) {
-    const Model& model = *find_model(model_name);
-    const std::vector<double> values = parameter_values(model, assignments);
-    write_merl(path, [&](const Vec3& l, const Vec3& v) { return *model.brdf(values.data(), l, v); });
-  }
-
-  static std::string page() { return read_file(dir_ + "/report.html"); }
-
-  static inline std::string dir_;
-  static inline test::CommandResult batch_, report_;
-};
-
-// The src of every <img> from `from` on, with its alt text. Plain scanning: libstdc++'s regex
-// recurses once per character and overflows the stack on data URIs of a few hundred kilobytes.
-struct ImageTag {
-  std::string src, alt;
-};
-std::vector<ImageTag> image_tags(const std::string& html, size_t from = 0) {
-  std::vector<ImageTag> tags;
-  const std::string open = "<img src=\"";
-  for (size_t at = html.find(open, from); at != std::string::npos; at = html.find(open, at + 1)) {
-    const size_t src_begin = at + open.size(), src_end = html.find('"', src_begin);
-    if (src_end == std::string::npos) break;
-    ImageTag tag{html.substr(src_begin, src_end - src_begin), ""};
-    const std::string alt = " alt=\"";
-    if (html.compare(src_end + 1, alt.size(), alt) == 0) {
-      const size_t alt_begin = src_end + 1 + alt.size();
-      tag.alt = html.substr(alt_begin, html.find('"', alt_begin) - alt_begin);
-    }
-    tags.push_back(tag);
-  }
-  return tags;
-}
-
-std::vector<std::string> image_sources(const std::string& html) {
-  std::vector<std::string> sources;
-  for (const ImageTag& tag : image_tags(html)) sources.push_back(tag.src);
-  return sources;
-}
-
-cv::Mat decode_png_data_uri(const std::string& uri) {
-  const std::string prefix = "data:image/png;base64,";
-  if (uri.rfind(prefix, 0) != 0) return cv::Mat();
-  const std::string base64 = uri.substr(prefix.size());
-  std::vector<unsigned char> bytes(base64.size());
-  const int n = EVP_DecodeBlock(bytes.data(), reinterpret_cast<const unsigned char*>(base64.data()),
-                                static_cast<int>(base64.size()));
-  if (n < 0) return cv::Mat();
-  bytes.resize(static_cast<size_t>(n));  // EVP_DecodeBlock counts the padding: PNG ignores trailing bytes
-  return cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
-}
+using Report = test::ReportPage;
 
 TEST_F(Report, EveryImageIsAnEmbeddedPng) {
   ASSERT_EQ(batch_.exit_code, 0) << batch_.output;
@@ -94,13 +23,13 @@ TEST_F(Report, EveryImageIsAnEmbeddedPng) {
   const std::string html = page();
   EXPECT_EQ(html.find("src=\"http"), std::string::npos);  // nothing from elsewhere
   EXPECT_EQ(html.find("href=\"http"), std::string::npos);
-  const std::vector<std::string> sources = image_sources(html);
+  const std::vector<std::string> sources = test::image_sources(html);
   // Per table: the measured sphere, environment sphere and slice, and per model those three and
   // the absolute and signed relative error of sphere and slice; per CSV material (no measured
   // pictures): each model's three; per table three colour bars (|error| twice, relative once).
   EXPECT_EQ(sources.size(), 2 * (3 + 3 * 7) + 3 * 3 + 2 * 3);
   for (const std::string& source : sources) {
-    const cv::Mat image = decode_png_data_uri(source);
+    const cv::Mat image = test::decode_png_data_uri(source);
     ASSERT_FALSE(image.empty()) << source.substr(0, 80);
     EXPECT_EQ(image.type(), CV_8UC3);
   }
@@ -119,68 +48,6 @@ TEST_F(Report, EveryImageIsAnEmbeddedPng) {
   EXPECT_EQ(count("class=\"polar\""), 2u * 4 + 3);
   EXPECT_EQ(count("<div class=\"axes\">"), 2u * 4 + 3);
   EXPECT_EQ(count(">θh °</text>"), 2u * 4 + 3);
-}
-
-// The picture with this alt text in the section of this material (anywhere for "").
-cv::Mat picture(const std::string& html, const std::string& material, const std::string& alt) {
-  const size_t section = material.empty() ? 0 : html.find("id=\"m-" + material + "\"");
-  if (section == std::string::npos) return cv::Mat();
-  for (const ImageTag& tag : image_tags(html, section))
-    if (tag.alt == alt) return decode_png_data_uri(tag.src);
-  return cv::Mat();
-}
-
-// ‖a − b‖₁ / ‖a‖₁ of two decoded pictures.
-double relative_l1(const cv::Mat& a, const cv::Mat& b) {
-  return cv::norm(a, b, cv::NORM_L1) / cv::norm(a, cv::NORM_L1);
-}
-
-TEST_F(Report, TheMeasuredPicturesAndTheBestFitsLookAlike) {
-  // On the ggx-baked table ggx ranks first, and its pictures match the measured ones.
-  const std::string html = page();
-  for (const std::string picture_name : {"sphere", "slice", "environment"}) {
-    const cv::Mat measured = picture(html, "plastic", "measured " + picture_name),
-                  fitted = picture(html, "plastic", "1. ggx " + picture_name);
-    ASSERT_FALSE(measured.empty()) << picture_name;
-    ASSERT_FALSE(fitted.empty()) << picture_name;
-    EXPECT_LT(relative_l1(measured, fitted), 0.03) << picture_name;
-  }
-}
-
-TEST_F(Report, ErrorMapsDoNotSaturate) {
-  const std::string html = page();
-  // The |error| scale is the largest 99th percentile of any model's error: at most 1 % of the
-  // worst model's sphere pixels reach the colour map's top, and fewer of the best model's.
-  // (Inferno's top is pale yellow: red and green above 240 in the PNG, BGR order.)
-  const auto saturated_fraction = [](const cv::Mat& bgr) {
-    int saturated = 0, sphere = 0;
-    for (int y = 0; y < bgr.rows; ++y)
-      for (int x = 0; x < bgr.cols; ++x) {
-        const cv::Vec3b p = bgr.at<cv::Vec3b>(y, x);
-        if (p[0] == p[1] && p[1] == p[2]) continue;  // the grey outside the sphere
-        ++sphere;
-        saturated += p[2] > 240 && p[1] > 240;
-      }
-    return sphere ? static_cast<double>(saturated) / sphere : 1.0;
-  };
-  for (const char* row : {"1. ggx", "2. ward", "3. lambert"}) {
-    const cv::Mat error = picture(html, "plastic", std::string(row) + " sphere error");
-    ASSERT_FALSE(error.empty()) << row;
-    EXPECT_LE(saturated_fraction(error), 0.012) << row;
-  }
-  // The signed relative error of the exact fit is near zero: nearly white (within ±5 % of the
-  // measured value shows as codes above 235 in every channel) on most of the sphere.
-  const cv::Mat relative = picture(html, "plastic", "1. ggx sphere relative error");
-  ASSERT_FALSE(relative.empty());
-  int white = 0, sphere = 0;
-  for (int y = 0; y < relative.rows; ++y)
-    for (int x = 0; x < relative.cols; ++x) {
-      const cv::Vec3b p = relative.at<cv::Vec3b>(y, x);
-      if (p[0] < 60 && p[1] < 60 && p[2] < 60) continue;  // off the sphere
-      ++sphere;
-      white += p[0] > 235 && p[1] > 235 && p[2] > 235;
-    }
-  EXPECT_GT(white, 0.9 * sphere);
 }
 
 // The sRGB code of the brightest channel of a display picture's pixel, as the PNG stores it.
@@ -248,7 +115,7 @@ TEST_F(Report, EachSliceErrorPanelSaysItsScaleAndShowsTheBulkOfTheError) {
   // decades of the panel's top, so shows coloured (not black, not the no-data grey); at most 1 % of
   // the pixels within 80° lie above the 99th percentile, and those at the colour map's pale yellow
   // top (codes above 240 in red and green) are hardly more (the top code spans 3/255 of a decade).
-  const cv::Mat lambert = picture(html, "plastic", "3. lambert slice error");
+  const cv::Mat lambert = test::picture(html, "plastic", "3. lambert slice error");
   ASSERT_FALSE(lambert.empty());
   const cv::Mat within = slice_mask(lambert.rows, 80.0);
   int shown = 0, saturated = 0;
@@ -290,63 +157,13 @@ TEST(SphereReport, ShowsThePhotographsBesideTheBestFitUnderTheSameLight) {
   EXPECT_NE(html.find("4 of 4 photographs shown"), std::string::npos);
   for (const std::string& path : scene.images) {
     SCOPED_TRACE(path);
-    const cv::Mat photo = picture(html, "", "photograph " + path);
-    const cv::Mat model = picture(html, "", "ggx under the light of " + path);
+    const cv::Mat photo = test::picture(html, "", "photograph " + path);
+    const cv::Mat model = test::picture(html, "", "ggx under the light of " + path);
     ASSERT_FALSE(photo.empty());
     ASSERT_FALSE(model.empty());
     EXPECT_EQ(photo.size(), model.size());
-    EXPECT_LT(relative_l1(photo, model), 0.05);
+    EXPECT_LT(test::relative_l1(photo, model), 0.05);
   }
-}
-
-TEST_F(Report, ChromiumLoadsThePageWithEveryImage) {
-  const std::string chromium = test::find_chromium();
-  if (chromium.empty() && test::running_in_ci()) FAIL() << "chromium is missing (CI installs it)";
-  if (chromium.empty())
-    GTEST_SKIP() << "chromium is not installed (scripts/install-deps.sh installs it with BRDFFIT_WITH_CHROMIUM=1)";
-  ASSERT_EQ(report_.exit_code, 0) << report_.output;
-  const std::string profile = test::fresh_dir("chromium-profile"), shot = dir_ + "/report.png";
-  const std::string browser = "timeout 180 " + chromium +
-                              " --headless --no-sandbox --disable-gpu --disable-quic --no-first-run"
-                              " --disable-background-networking --disable-component-update --disable-sync"
-                              " --user-data-dir=" +
-                              profile + " --window-size=1280,2000 ";
-  const std::string url = "file://" + dir_ + "/report.html";
-
-  const test::CommandResult screenshot = test::run_command(browser + "--screenshot=" + shot + " " + url);
-  ASSERT_TRUE(fs::exists(shot)) << screenshot.output;
-  EXPECT_GT(fs::file_size(shot), 20000u);  // a page with pictures, not a blank one
-  const ImageInfo info = read_image_info(shot);
-  EXPECT_EQ(info.width, 1280);
-  EXPECT_EQ(info.height, 2000);
-
-  // The page's own check, run on load, reports every image decoded.
-  const test::CommandResult dom = test::run_command(browser + "--virtual-time-budget=20000 --dump-dom " + url);
-  const std::string marker = "id=\"image-check\" data-total=\"";
-  const size_t at = dom.output.find(marker);
-  ASSERT_NE(at, std::string::npos) << dom.output.substr(0, 2000);
-  size_t total = 0, broken = 0;
-  ASSERT_EQ(std::sscanf(dom.output.c_str() + at + marker.size(), "%zu\" data-broken=\"%zu\"", &total, &broken), 2)
-      << dom.output.substr(at, 200);
-  EXPECT_EQ(total, image_sources(page()).size());
-  EXPECT_EQ(broken, 0u);
-  EXPECT_NE(dom.output.find("data-sideways=\"0\""), std::string::npos) << dom.output.substr(at, 200);
-
-  // At the default picture sizes, the page fits a window 1600 pixels wide: the pictures, polar
-  // plots, parameters and warnings wrap or stack, nothing scrolls sideways.
-  const std::string full = dir_ + "/report-full.html";
-  const auto report = test::run_cli("report " + dir_ + "/fits -o " + full);
-  ASSERT_EQ(report.exit_code, 0) << report.output;
-  std::string wide = browser;
-  wide.replace(wide.find("--window-size=1280,2000"), std::string("--window-size=1280,2000").size(),
-               "--window-size=1600,2000");
-  const test::CommandResult full_dom =
-      test::run_command(wide + "--virtual-time-budget=20000 --dump-dom file://" + full);
-  const size_t check = full_dom.output.find("id=\"image-check\"");
-  ASSERT_NE(check, std::string::npos) << full_dom.output.substr(0, 2000);
-  const std::string status = full_dom.output.substr(check, full_dom.output.find('>', check) - check);
-  EXPECT_NE(status.find("data-broken=\"0\""), std::string::npos) << status;
-  EXPECT_NE(status.find("data-sideways=\"0\""), std::string::npos) << status;
 }
 
 }  // namespace

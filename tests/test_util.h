@@ -181,6 +181,18 @@ inline SampleSet model_table(const Model& model, const std::vector<double>& valu
   return set;
 }
 
+// Whether any of `lines` (a fit's warnings, a command's output) contains `text`.
+inline bool mentions(const std::vector<std::string>& lines, const std::string& text) {
+  return std::any_of(lines.begin(), lines.end(),
+                     [&](const std::string& l) { return l.find(text) != std::string::npos; });
+}
+
+// The fitter tests' tables: random direction pairs down to z = 0.02.
+inline SampleSet synthetic(const Model& model, const std::vector<double>& values, size_t count, double noise,
+                           uint64_t seed) {
+  return model_table(model, values, count, noise, seed, 0.02);
+}
+
 inline Vec3 dir(double x, double y, double z) { return Vec3(x, y, z).normalized(); }
 
 // The published fits bundled in data/ (BBM's .fit files).
