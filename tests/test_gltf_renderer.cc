@@ -77,7 +77,7 @@ namespace {
 
 constexpr int kSize = 256;                 // pixels; the sphere's radius is kSize/2 - 1
 constexpr double kModelTolerance = 0.005;  // three.js against its documented departures, mean relative
-const Vec3 kLight = Vec3(-1.0, 1.0, 2.0);  // brdffit render's default light, upper left
+const Vec3 kRenderLight = Vec3(-1.0, 1.0, 2.0);  // brdffit render's default light, upper left
 
 // A glTF material as the specification and three.js both read it.
 struct GltfMaterial {
@@ -260,7 +260,7 @@ struct RenderComparison {
 // the sphere (g is the quad's normal difference there).
 RenderComparison compare(const GltfMaterial& m, const cv::Mat& three_js, const cv::Mat& brdffit_render) {
   static const LobeAlbedoTable albedo;
-  const Vec3 l = kLight.normalized();
+  const Vec3 l = kRenderLight.normalized();
   const double inner = 1.0 - 3.0 / (kSize / 2.0 - 1.0);
   RenderComparison c;
   const auto relative = [](const Rgb<double>& a, const Rgb<double>& b) {
@@ -317,7 +317,7 @@ TEST_P(ThreeJs, DrawsTheExportedMaterialAsFittedWithinItsDocumentedDepartures) {
   const std::string dir = test::fresh_dir("three-js-" + c.model);
   const std::string doc =
       test::write_document(dir + "/fit.json", "/data/m.binary", {test::fit_of(c.model, c.assignments)});
-  const std::string light = fmt::format("{},{},{}", kLight.x(), kLight.y(), kLight.z());
+  const std::string light = fmt::format("{},{},{}", kRenderLight.x(), kRenderLight.y(), kRenderLight.z());
   const auto exported = test::run_cli("export " + doc + " -m " + c.model + " -o " + dir + "/m.gltf");
   ASSERT_EQ(exported.exit_code, 0) << exported.output;
   const auto rendered = test::run_cli(
