@@ -75,8 +75,8 @@
 namespace brdffit {
 namespace {
 
-constexpr int kSize = 256;                 // pixels; the sphere's radius is kSize/2 - 1
-constexpr double kModelTolerance = 0.005;  // three.js against its documented departures, mean relative
+constexpr int kSize = 256;                       // pixels; the sphere's radius is kSize/2 - 1
+constexpr double kModelTolerance = 0.005;        // three.js against its documented departures, mean relative
 const Vec3 kRenderLight = Vec3(-1.0, 1.0, 2.0);  // brdffit render's default light, upper left
 
 // A glTF material as the specification and three.js both read it.
