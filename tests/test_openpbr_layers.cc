@@ -21,9 +21,9 @@ namespace {
 // at a bound (MaterialX's clamped albedo fit, the min of the roughening) or vanishing.
 const Vec3 kLight = Vec3(0.3, 0.2, 0.9).normalized(), kView = Vec3(-0.8, 0.15, 0.45).normalized();
 
-const std::vector<std::string> kBase = {"base_color=0.6,0.4,0.2",     "base_metalness=0.3",
-                                        "base_diffuse_roughness=0.4", "specular_color=0.9,0.8,0.7",
-                                        "specular_roughness=0.35",    "specular_ior=1.45"};
+const std::vector<std::string> kBaseAssignments = {"base_color=0.6,0.4,0.2",     "base_metalness=0.3",
+                                                   "base_diffuse_roughness=0.4", "specular_color=0.9,0.8,0.7",
+                                                   "specular_roughness=0.35",    "specular_ior=1.45"};
 const std::vector<std::string> kCoat = {"coat_weight=0.7", "coat_color=0.9,0.7,0.5", "coat_roughness=0.6",
                                         "coat_ior=1.8"};
 const std::vector<std::string> kFuzz = {"fuzz_weight=0.6", "fuzz_color=0.8,0.5,0.3", "fuzz_roughness=0.45"};
@@ -53,14 +53,14 @@ Rgb<double> brdf_of(const std::string& model, const std::vector<std::string>& as
 TEST(OpenPbrLayers, CoatMatchesHandDerivedValues) {
   const double lobe = 0.015923650009864815;
   const Rgb<double> factor(0.5681011038656604, 0.4305135996233194, 0.3257130597178589);
-  std::vector<std::string> under = kBase;
+  std::vector<std::string> under = kBaseAssignments;
   under[4] = "specular_roughness=0.6115442354485287";
   under[5] = "specular_ior=1.3039655172413793";
   const Rgb<double> base = brdf_of("openpbr", under);
-  const Rgb<double> coated = brdf_of("openpbr+coat", joined(kBase, kCoat));
+  const Rgb<double> coated = brdf_of("openpbr+coat", joined(kBaseAssignments, kCoat));
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(coated[c], lobe + factor[c] * base[c], 1e-12 * coated[c]) << c;
   // Not the base alone: the coat's terms all count here.
-  EXPECT_GT((coated - brdf_of("openpbr", kBase)).cwiseAbs().minCoeff(), 0.01 * coated.minCoeff());
+  EXPECT_GT((coated - brdf_of("openpbr", kBaseAssignments)).cwiseAbs().minCoeff(), 0.01 * coated.minCoeff());
 }
 
 // The fuzz at kLight, kView, derived by hand (numpy): MaterialX's fits at (n·v 0.48384300, σ 0.45)
@@ -72,11 +72,12 @@ TEST(OpenPbrLayers, CoatMatchesHandDerivedValues) {
 TEST(OpenPbrLayers, FuzzMatchesHandDerivedValues) {
   const double fuzz = 0.00553736948638021, through = 0.9278869404180389;
   const Rgb<double> colour(0.8, 0.5, 0.3);
-  const Rgb<double> base = brdf_of("openpbr", kBase), fuzzed = brdf_of("openpbr+fuzz", joined(kBase, kFuzz));
+  const Rgb<double> base = brdf_of("openpbr", kBaseAssignments),
+                    fuzzed = brdf_of("openpbr+fuzz", joined(kBaseAssignments, kFuzz));
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(fuzzed[c], colour[c] * fuzz + through * base[c], 1e-12 * fuzzed[c]) << c;
   // With both layers the fuzz lies on the coat.
-  const Rgb<double> coated = brdf_of("openpbr+coat", joined(kBase, kCoat)),
-                    both = brdf_of("openpbr+coat+fuzz", joined(joined(kBase, kCoat), kFuzz));
+  const Rgb<double> coated = brdf_of("openpbr+coat", joined(kBaseAssignments, kCoat)),
+                    both = brdf_of("openpbr+coat+fuzz", joined(joined(kBaseAssignments, kCoat), kFuzz));
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(both[c], colour[c] * fuzz + through * coated[c], 1e-12 * both[c]) << c;
 }
 
@@ -235,9 +236,9 @@ TEST(OpenPbrLayers, LayersMayBeNamedInAnyOrder) {
 TEST(OpenPbrLayers, MtlxRoundTripReadsTheSmallestModelHoldingTheLayers) {
   const std::string dir = test::fresh_dir("openpbr-layers-mtlx");
   const std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
-      {"openpbr+coat", joined(kBase, kCoat)},
-      {"openpbr+fuzz", joined(kBase, kFuzz)},
-      {"openpbr+coat+fuzz", joined(joined(kBase, kCoat), kFuzz)}};
+      {"openpbr+coat", joined(kBaseAssignments, kCoat)},
+      {"openpbr+fuzz", joined(kBaseAssignments, kFuzz)},
+      {"openpbr+coat+fuzz", joined(joined(kBaseAssignments, kCoat), kFuzz)}};
   for (const auto& [name, assignments] : cases) {
     SCOPED_TRACE(name);
     const Model& model = *find_model(name);
@@ -251,14 +252,14 @@ TEST(OpenPbrLayers, MtlxRoundTripReadsTheSmallestModelHoldingTheLayers) {
     EXPECT_EQ(read.values, written.values);
   }
   // coat_weight 0 with the coat's other inputs given: the base alone, silently.
-  std::vector<double> off = parameter_values(*find_model("openpbr+coat"), joined(kBase, kCoat));
+  std::vector<double> off = parameter_values(*find_model("openpbr+coat"), joined(kBaseAssignments, kCoat));
   off[find_model("openpbr+coat")->offset_of("coat_weight")] = 0.0;
   write_file_atomic(dir + "/off.mtlx", materialx_document({"m", "openpbr+coat", off}, "test"));
   std::vector<std::string> warnings;
   const Material base = read_material(dir + "/off.mtlx", "", warnings);
   EXPECT_TRUE(warnings.empty()) << warnings.front();
   EXPECT_EQ(base.model, "openpbr");
-  EXPECT_EQ(base.values, parameter_values(*find_model("openpbr"), kBase));
+  EXPECT_EQ(base.values, parameter_values(*find_model("openpbr"), kBaseAssignments));
   // A coat without coat_roughness: OpenPBR's default 0, clamped to the model's bound with a warning;
   // a coat_darkening other than the held 1 is reported.
   write_file_atomic(dir + "/bare.mtlx",
@@ -301,7 +302,7 @@ TEST(OpenPbrLayers, ConversionsKeepTheLayersTheTargetHas) {
   EXPECT_EQ(coat_only.model, "openpbr+coat");
   EXPECT_EQ(value_at(*find_model("openpbr+coat"), coat_only.values, "coat_weight"), 0.7);
   // A contained model converts parameter by parameter: openpbr into openpbr+coat is exact.
-  const std::vector<double> base = parameter_values(*find_model("openpbr"), kBase);
+  const std::vector<double> base = parameter_values(*find_model("openpbr"), kBaseAssignments);
   const Material nested = convert_material("openpbr", base, "openpbr+coat");
   EXPECT_EQ(value_at(*find_model("openpbr+coat"), nested.values, "coat_weight"), 0.0);
   EXPECT_EQ(find_model("openpbr+coat")->shade(nested.values.data(), kLight, kView),
