@@ -201,12 +201,28 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
   const bool costs_from_metrics = channels == kAllChannels && !loss && !options.per_channel;
   std::optional<Metrics> metrics;
   std::vector<double> metrics_at;
-  enum class Costing { Alone, Known, WithErrors, WithMetrics };
+  // A subset's optimum is nearly always the best candidate, whose linear parameters are then solved
+  // exactly on all samples (below). Where the objective is the linear solve's quadratic (no robust
+  // loss, not the log metric), one pass of the solve gives both that candidate's cost and the
+  // solution (`solved`: values as costed, then solved).
+  const bool costs_from_linear_solve = !loss && metric_is_quadratic(options.metric);
+  std::vector<std::pair<std::vector<double>, std::vector<double>>> solved;
+  enum class Costing { Alone, Known, WithErrors, WithMetrics, WithLinearSolve };
   auto keep = [&](Refinement r, Costing costing = Costing::Alone) {
     if (!r.usable) return;
     if (std::any_of(candidates.begin(), candidates.end(),
                     [&](const Refinement& c) { return same_optimum(slots, c.values, r.values); }))
       return;
+    if (costing == Costing::WithLinearSolve && costs_from_linear_solve) {
+      std::vector<double> solution = r.values;
+      double cost_as_given = NAN;
+      solve_linear(model, solution, data.samples, options.metric, channels, &cost_as_given);
+      if (std::isfinite(cost_as_given)) {
+        r.cost = 0.5 * cost_as_given;
+        solved.emplace_back(r.values, std::move(solution));
+        costing = Costing::Known;
+      }
+    }
     if (costing == Costing::WithErrors) {
       r.cost = 0.5 * cost_and_absolute_errors(model, r.values, data.samples, options.metric, channels, loss.get(),
                                               threads, best_errors);
@@ -215,7 +231,7 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
       metrics = evaluate_metrics(model, r.values, data);
       r.cost = 0.5 * std::pow(metrics->get(options.metric), 2) * metric_weight_sum(data.samples, options.metric);
       metrics_at = r.values;
-    } else if (costing != Costing::Known) {
+    } else if (costing != Costing::Known) {  // Alone, or a linear solve that gave no cost
       double best_kept = HUGE_VAL;
       for (const Refinement& c : candidates) best_kept = std::min(best_kept, c.cost);
       r.cost = full_cost(r.values, best_kept);
@@ -305,7 +321,7 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
         // A larger subset follows (a table whose subsample hit few distinct samples): it is drawn
         // from this optimum's errors, which its cost on all samples gives in the same pass.
         const bool another_subset = draws * 10 < data.size();
-        keep(std::move(r), another_subset ? Costing::WithErrors : Costing::Alone);
+        keep(std::move(r), another_subset ? Costing::WithErrors : Costing::WithLinearSolve);
       }
       clock.lap("candidate costs");
       largest_draws = draws;
@@ -330,7 +346,7 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
       subset_optimum = r;
       if (r.usable) {
         best = r;
-        keep(std::move(r));
+        keep(std::move(r), Costing::WithLinearSolve);
       }
       clock.lap("candidate costs");
     }
@@ -378,7 +394,12 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
     // (a relative cost change of 1e-6) leaves them wherever the cost is flat enough, which under
     // a bright peak can be a diffuse albedo a percent off its least-squares value.
     Refinement exact = cheapest();
-    solve_linear(model, exact.values, data.samples, options.metric, channels);
+    const auto known =
+        std::find_if(solved.begin(), solved.end(), [&](const auto& s) { return s.first == exact.values; });
+    if (known != solved.end())
+      exact.values = known->second;
+    else
+      solve_linear(model, exact.values, data.samples, options.metric, channels);
     keep(std::move(exact), Costing::WithMetrics);
     best = cheapest();
     if (metrics && metrics_at == best.values) fit.metrics = std::move(metrics);

@@ -50,7 +50,8 @@ Eigen::VectorXd solve_box_quadratic(const Eigen::MatrixXd& a, const Eigen::Vecto
 }
 
 double solve_linear(const Model& model, std::vector<double>& values, const std::vector<Sample>& samples, Metric metric,
-                    const Channels& channels) {
+                    const Channels& channels, double* cost_as_given) {
+  if (cost_as_given) *cost_as_given = NAN;
   std::vector<const ParamSpec*> linear;
   for (const ParamSpec& p : model.parameters())
     if (p.linear) linear.push_back(&p);
@@ -84,16 +85,21 @@ double solve_linear(const Model& model, std::vector<double>& values, const std::
     upper[j] = linear[j]->upper;
   }
   // Σ w·(target − basis·x)² = xᵀAx − 2bᵀx + Σ w·target², summed over the fitted channels.
-  double cost = 0.0;
+  auto objective = [](double cost) { return std::isfinite(cost) ? std::max(cost, 0.0) : HUGE_VAL; };
+  double cost = 0.0, given_cost = 0.0;
   for (int c = 0; c < 3; ++c) {
     if (!channels[c]) continue;
+    Eigen::VectorXd given(m);
+    for (int j = 0; j < m; ++j) given[j] = values[model.offset_of(linear[j]->name) + c];
+    given_cost += given.dot(a[c] * given) - 2.0 * b[c].dot(given) + target_squares[c];
     const Eigen::VectorXd x = solve_box_quadratic(a[c], b[c], lower, upper);
     for (int j = 0; j < m; ++j) values[model.offset_of(linear[j]->name) + c] = x[j];
     cost += x.dot(a[c] * x) - 2.0 * b[c].dot(x) + target_squares[c];
   }
   // The log metric's weights only linearise it: its cost is not this quadratic.
   if (!metric_is_quadratic(metric)) return NAN;
-  return std::isfinite(cost) ? std::max(cost, 0.0) : HUGE_VAL;
+  if (cost_as_given) *cost_as_given = objective(given_cost);
+  return objective(cost);
 }
 
 }  // namespace brdffit

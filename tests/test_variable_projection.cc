@@ -79,10 +79,11 @@ TEST(SolveLinear, ClampsToTheBoundsAndLeavesUnfittedChannelsAlone) {
   EXPECT_NEAR(values[2], 0.6, 1e-9);
 }
 
-TEST(SolveLinear, ReturnsTheCostAtItsSolutionFromTheNormalEquations) {
+TEST(SolveLinear, ReturnsTheCostsAtItsSolutionAndAtTheValuesGivenFromTheNormalEquations) {
   // Noisy Blinn-Phong away from its true gloss, one channel clamped at its bound and one not
   // fitted: the returned objective is what a separate pass over the samples (cost_of) finds at
-  // the solved values, for every metric whose residual is affine in the prediction.
+  // the solved values, and the one given back for the values as given (colours off their optimum
+  // by 20 %) what it finds at those, for every metric whose residual is affine in the prediction.
   const Model& model = *find_model("blinn-phong");
   std::vector<double> truth = with(model, model.default_values(), "albedo", {0.99, 0.5, 0.8});
   truth = with(model, truth, "specular", {0.3, 0.1, 0.05});
@@ -91,15 +92,21 @@ TEST(SolveLinear, ReturnsTheCostAtItsSolutionFromTheNormalEquations) {
   const Channels channels{true, true, false};
   for (Metric metric : {Metric::Cosine, Metric::Relative, Metric::L2}) {
     SCOPED_TRACE(metric_name(metric));
-    std::vector<double> values = truth;
+    std::vector<double> values = with(model, truth, "albedo", {0.8, 0.4, 0.64});
     values[model.offset_of("gloss")] *= 1.7;
-    const double cost = solve_linear(model, values, data.samples, metric, channels);
+    const double expected_as_given = cost_of(model, values, data.samples, metric, channels, nullptr);
+    double as_given = NAN;
+    const double cost = solve_linear(model, values, data.samples, metric, channels, &as_given);
     const double expected = cost_of(model, values, data.samples, metric, channels, nullptr);
     EXPECT_GT(expected, 0.0);
     EXPECT_NEAR(cost, expected, 1e-9 * expected);
+    EXPECT_GT(expected_as_given, 1.5 * expected);  // the solve moved the colours
+    EXPECT_NEAR(as_given, expected_as_given, 1e-9 * expected_as_given);
   }
   std::vector<double> values = truth;
-  EXPECT_TRUE(std::isnan(solve_linear(model, values, data.samples, Metric::Log, channels)));
+  double as_given = 0.0;
+  EXPECT_TRUE(std::isnan(solve_linear(model, values, data.samples, Metric::Log, channels, &as_given)));
+  EXPECT_TRUE(std::isnan(as_given));
 }
 
 }  // namespace

@@ -22,8 +22,10 @@ Eigen::VectorXd solve_box_quadratic(const Eigen::MatrixXd& a, const Eigen::Vecto
 // weighted by its first-order sensitivity, so the solve matches the metric near the data.
 // Returns the objective at the solution, Σ r² as cost_of counts it without a loss, from the
 // normal equations (no second pass over the samples); NaN for the log metric (not quadratic in
-// the prediction) and for a model without linear parameters.
+// the prediction) and for a model without linear parameters. `cost_as_given`, if set, receives
+// the objective at the values as they were given, from the same normal equations (NaN where the
+// return is): the cost of a candidate and its linear parameters' optimum in one pass.
 double solve_linear(const Model& model, std::vector<double>& values, const std::vector<Sample>& samples, Metric metric,
-                    const Channels& channels);
+                    const Channels& channels, double* cost_as_given = nullptr);
 
 }  // namespace brdffit
