@@ -2,10 +2,10 @@
 //
 // For each model: a deterministic multi-start grid over the shape parameters (on a subsample),
 // with the linear colour parameters solved exactly for every grid point (variable projection);
-// trust-region least squares (Ceres dogleg, automatic derivatives, batched residuals in
-// parallel) from the best starts on the subsample, then on ten-times larger subsets and finally
-// on all samples (a few polishing steps when a large subset came before); integer parameters
-// are searched over their range; standard deviations from Ceres' covariance at the optimum.
+// trust-region least squares (Ceres dogleg, automatic derivatives, batched residuals in parallel)
+// from the best starts on the subsample (the best walked furthest), then on ten-times larger
+// importance subsets and all samples (a few polishing steps when a large subset came before);
+// integer parameters searched over their range; standard deviations from Ceres' covariance.
 #pragma once
 
 #include <atomic>
@@ -26,7 +26,7 @@ struct FitOptions {
   LossKind loss = LossKind::None;  // robust loss per sample-channel (photographs)
   double loss_scale = 0.0;         // residual scale where the robust loss bends; 0 = automatic
   int threads = 0;                 // 0 = all cores
-  int max_iterations = 100;        // trust-region iterations per stage
+  int max_iterations = 100;        // trust-region iterations per stage (at most 40 on an importance subset)
   int grid_points = 256;           // multi-start grid size over the shape parameters (at most)
   int starts = 3;                  // best grid points refined on the subsample
   size_t subsample = 12000;        // samples used by the grid and the first refinements
