@@ -292,8 +292,9 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
                      [](const Refinement& a, const Refinement& b) { return a.cost < b.cost; });
     // The best walks on, to kBestStartIterations in all: a step here costs a tenth of one on the
     // importance subset, whose walk from here is capped (kSubsetWalkIterations). Both measured
-    // together on the nine shared tables, all 36 models: sgd 5-21 % better on five tables and
-    // 10-37 % faster, openpbr+coat+fuzz on blue-acrylic 30 % better; 7 % less CPU in all.
+    // together on the nine shared tables, all 36 models: sgd better on seven (acrylic_felt_green
+    // 21 %) and 7-43 % faster on eight, openpbr+coat+fuzz on blue-acrylic 30 % better, four errors
+    // worse by at most 0.03 %; 7 % less CPU in all (docs/performance.md, fourteenth round).
     if (!screened.empty() && !small_is_all) {
       Refinement& first = screened.front();
       Refinement more = on_subsample.run(first.values, kBestStartIterations - refine_iterations, 1e-6,
