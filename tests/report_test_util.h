@@ -94,6 +94,27 @@ inline cv::Mat picture(const std::string& html, const std::string& material, con
   return cv::Mat();
 }
 
+// Every <img> of a report page is a PNG embedded as a data URI that decodes to 8-bit RGB, and
+// the page loads nothing from elsewhere; `count` images in all.
+inline void expect_embedded_pngs(const std::string& html, size_t count) {
+  EXPECT_EQ(html.find("src=\"http"), std::string::npos);
+  EXPECT_EQ(html.find("href=\"http"), std::string::npos);
+  const std::vector<std::string> sources = image_sources(html);
+  EXPECT_EQ(sources.size(), count);
+  for (const std::string& source : sources) {
+    const cv::Mat image = decode_png_data_uri(source);
+    ASSERT_FALSE(image.empty()) << source.substr(0, 80);
+    EXPECT_EQ(image.type(), CV_8UC3);
+  }
+}
+
+// How many times `what` occurs in `html`.
+inline size_t occurrences(const std::string& html, const std::string& what) {
+  size_t n = 0;
+  for (size_t at = html.find(what); at != std::string::npos; at = html.find(what, at + 1)) ++n;
+  return n;
+}
+
 // ‖a − b‖₁ / ‖a‖₁ of two decoded pictures.
 inline double relative_l1(const cv::Mat& a, const cv::Mat& b) {
   return cv::norm(a, b, cv::NORM_L1) / cv::norm(a, cv::NORM_L1);

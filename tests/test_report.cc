@@ -1,6 +1,6 @@
-// report: a page built from a real batch (two baked MERL tables and a CSV of samples), every
-// image a valid PNG, and the error scale of a slice (the pictures themselves and Chromium loading
-// the page: test_report_pictures.cc).
+// report: a page built from a real batch (the bundled RGL table and a CSV of samples), every
+// image a valid PNG, and the error scale of a slice (the page of two baked MERL tables, its
+// pictures and Chromium loading it: test_report_pictures.cc, with the numerical tests).
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -8,45 +8,38 @@
 #include "brdffit/imaging/image_io.h"
 #include "brdffit/imaging/render.h"
 #include "report_test_util.h"
+#include "test_util.h"
 
 namespace brdffit {
 
 namespace fs = std::filesystem;
 namespace {
 
-using Report = test::ReportPage;
-
-TEST_F(Report, EveryImageIsAnEmbeddedPng) {
-  ASSERT_EQ(batch_.exit_code, 0) << batch_.output;
-  ASSERT_EQ(report_.exit_code, 0) << report_.output;
-  const std::string html = page();
-  EXPECT_EQ(html.find("src=\"http"), std::string::npos);  // nothing from elsewhere
-  EXPECT_EQ(html.find("href=\"http"), std::string::npos);
-  const std::vector<std::string> sources = test::image_sources(html);
-  // Per table: the measured sphere, environment sphere and slice, and per model those three and
-  // the absolute and signed relative error of sphere and slice; per CSV material (no measured
-  // pictures): each model's three; per table three colour bars (|error| twice, relative once).
-  EXPECT_EQ(sources.size(), 2 * (3 + 3 * 7) + 3 * 3 + 2 * 3);
-  for (const std::string& source : sources) {
-    const cv::Mat image = test::decode_png_data_uri(source);
-    ASSERT_FALSE(image.empty()) << source.substr(0, 80);
-    EXPECT_EQ(image.type(), CV_8UC3);
-  }
-  // The comparison, a section per material, a polar plot per row, the CSV material's note.
-  EXPECT_NE(html.find("<table class=\"summary\">"), std::string::npos);
-  for (const char* material : {"brushed", "plastic", "samples"})
+TEST(ReportOfARealTable, EveryImageIsAnEmbeddedPngAndEveryMaterialHasItsSection) {
+  // The bundled RGL table and a CSV of samples, two models, small pictures: the report's code under
+  // the sanitizers in seconds (the numerical tests' page of two MERL tables and three models:
+  // test_report_pictures.cc).
+  const std::string dir = test::fresh_dir("report-real-table");
+  fs::create_directories(dir + "/tables");
+  fs::copy_file(std::string(BRDFFIT_SOURCE_DIR) + "/data/cc_ibiza_sunset_rgb.bsdf", dir + "/tables/sunset.bsdf");
+  test::write_model_csv(dir + "/tables/samples.csv", "lambert", {"albedo=0.4,0.4,0.2"}, 500);
+  const auto batch =
+      test::run_cli("batch " + dir + "/tables --models lambert,ggx --max-samples 3000 --out " + dir + "/fits");
+  ASSERT_EQ(batch.exit_code, 0) << batch.output;
+  const auto report = test::run_cli("report " + dir + "/fits --size 24 --out " + dir + "/report.html");
+  ASSERT_EQ(report.exit_code, 0) << report.output;
+  const std::string html = read_file(dir + "/report.html");
+  // The table: its measured sphere, environment sphere and slice, per model those three and the
+  // absolute and signed relative error of sphere and slice, three colour bars; the CSV: each
+  // model's three.
+  test::expect_embedded_pngs(html, (3 + 2 * 7 + 3) + 2 * 3);
+  for (const char* material : {"sunset", "samples"})
     EXPECT_NE(html.find(std::string("id=\"m-") + material + "\""), std::string::npos) << material;
   EXPECT_NE(html.find("No measured pictures:"), std::string::npos);
-  EXPECT_NE(html.find("samples.csv: a CSV of samples is not a table"), std::string::npos);
-  // A polar plot and a slice with axes per row.
-  const auto count = [&html](const std::string& what) {
-    size_t n = 0;
-    for (size_t at = html.find(what); at != std::string::npos; at = html.find(what, at + 1)) ++n;
-    return n;
-  };
-  EXPECT_EQ(count("class=\"polar\""), 2u * 4 + 3);
-  EXPECT_EQ(count("<div class=\"axes\">"), 2u * 4 + 3);
-  EXPECT_EQ(count(">θh °</text>"), 2u * 4 + 3);
+  // A polar plot and a slice with axes per row: the measured table and each fit.
+  EXPECT_EQ(test::occurrences(html, "class=\"polar\""), 3u + 2);
+  EXPECT_EQ(test::occurrences(html, "<div class=\"axes\">"), 3u + 2);
+  EXPECT_EQ(test::occurrences(html, ">θh °</text>"), 3u + 2);
 }
 
 // The sRGB code of the brightest channel of a display picture's pixel, as the PNG stores it.

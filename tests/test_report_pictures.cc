@@ -1,7 +1,8 @@
-// report, numerically: the measured pictures beside the best fit's agree, the error maps do not
-// saturate and each slice's panel shows the bulk of its error, a sphere fit's photographs match
-// the fit rendered under their lights, and Debian's headless Chromium loads the page without a
-// missing image.
+// report, numerically: the page of a batch of two MERL tables and a CSV (every image an embedded
+// PNG, a section and plots per material), the measured pictures beside the best fit's agree, the
+// error maps do not saturate and each slice's panel shows the bulk of its error, a sphere fit's
+// photographs match the fit rendered under their lights, and Debian's headless Chromium loads the
+// page without a missing image.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -17,6 +18,26 @@ namespace {
 
 namespace fs = std::filesystem;
 using Report = test::ReportPage;
+
+TEST_F(Report, EveryImageIsAnEmbeddedPng) {
+  ASSERT_EQ(batch_.exit_code, 0) << batch_.output;
+  ASSERT_EQ(report_.exit_code, 0) << report_.output;
+  const std::string html = page();
+  // Per table: the measured sphere, environment sphere and slice, and per model those three and
+  // the absolute and signed relative error of sphere and slice; per CSV material (no measured
+  // pictures): each model's three; per table three colour bars (|error| twice, relative once).
+  test::expect_embedded_pngs(html, 2 * (3 + 3 * 7) + 3 * 3 + 2 * 3);
+  // The comparison, a section per material, a polar plot per row, the CSV material's note.
+  EXPECT_NE(html.find("<table class=\"summary\">"), std::string::npos);
+  for (const char* material : {"brushed", "plastic", "samples"})
+    EXPECT_NE(html.find(std::string("id=\"m-") + material + "\""), std::string::npos) << material;
+  EXPECT_NE(html.find("No measured pictures:"), std::string::npos);
+  EXPECT_NE(html.find("samples.csv: a CSV of samples is not a table"), std::string::npos);
+  // A polar plot and a slice with axes per row.
+  EXPECT_EQ(test::occurrences(html, "class=\"polar\""), 2u * 4 + 3);
+  EXPECT_EQ(test::occurrences(html, "<div class=\"axes\">"), 2u * 4 + 3);
+  EXPECT_EQ(test::occurrences(html, ">θh °</text>"), 2u * 4 + 3);
+}
 
 TEST_F(Report, TheMeasuredPicturesAndTheBestFitsLookAlike) {
   // On the ggx-baked table ggx ranks first, and its pictures match the measured ones.
