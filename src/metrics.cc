@@ -1,5 +1,6 @@
 // The error metrics (see metric.h for their definitions), their table's look-ups and the losses' names.
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "brdffit/error.h"
@@ -72,16 +73,50 @@ LossKind loss_from_name(const std::string& name, const std::string& what) {
 
 double Metrics::get(Metric metric) const { return this->*metric_info(metric).value; }
 
+namespace {
+
+// The bins of a histogram of log10 x: kBinsPerDecade per decade from 10^−(kDecades/2) to
+// 10^(kDecades/2), the first and last also taking what lies beyond. A bin is found from x's binary
+// exponent and a table of log10 over the mantissa, then checked against the bins' edges: a
+// logarithm per sample and channel was a sixth of the metrics' pass (lambert on a full MERL
+// table: 0.132 -> 0.110 CPU s, every fit has one such pass).
+class LogBins {
+ public:
+  static constexpr int kBinsPerDecade = 200, kDecades = 12, kBins = kBinsPerDecade * kDecades;
+
+  LogBins() {
+    for (int b = 0; b <= kBins; ++b) edges_[b] = std::pow(10.0, static_cast<double>(b) / kBinsPerDecade - kDecades / 2);
+    for (int k = 0; k < kCells; ++k) cell_log10_[k] = std::log10(0.5 + 0.5 * k / kCells);
+  }
+
+  int bin_of(double x) const {
+    if (!(x >= edges_[1])) return 0;  // NaN too
+    if (x >= edges_[kBins - 1]) return kBins - 1;
+    int exponent;
+    const double mantissa = std::frexp(x, &exponent);  // x = mantissa·2^exponent, mantissa in [½, 1)
+    const int cell = static_cast<int>((mantissa - 0.5) * (2 * kCells));
+    const double log10_below = exponent * kLog10Of2 + cell_log10_[cell];  // of the cell's lower end
+    // A cell spans a third of a bin: at most one edge lies between its lower end and x.
+    const int b = std::clamp(static_cast<int>((log10_below + kDecades / 2) * kBinsPerDecade), 1, kBins - 2);
+    if (x >= edges_[b + 1]) return b + 1;
+    return x < edges_[b] ? b - 1 : b;
+  }
+
+ private:
+  static constexpr int kCells = 256;
+  static constexpr double kLog10Of2 = 0.30102999566398120;
+  std::array<double, kBins + 1> edges_;
+  std::array<double, kCells> cell_log10_;
+};
+
+}  // namespace
+
 Metrics evaluate_metrics(const Model& model, const std::vector<double>& values, const SampleSet& data,
                          const std::vector<std::vector<double>>& per_channel_values) {
   // The typical relative error is a weighted median, found in a histogram of log10 of the
-  // relative error (kBinsPerDecade bins per decade from 1e-6 to 1e6: 1.2% resolution).
-  constexpr int kBinsPerDecade = 200, kDecades = 12;
-  constexpr int kBins = kBinsPerDecade * kDecades;
-  auto bin_of = [](double relative) {
-    const double position = (std::log10(std::max(relative, 1e-300)) + kDecades / 2) * kBinsPerDecade;
-    return std::clamp(static_cast<int>(position), 0, kBins - 1);
-  };
+  // relative error (LogBins: 1.2% resolution).
+  static const LogBins bins;
+  constexpr int kBins = LogBins::kBins, kBinsPerDecade = LogBins::kBinsPerDecade, kDecades = LogBins::kDecades;
   double mean_abs = 0.0, mean_weight = 0.0;
   for (const Sample& s : data.samples) {
     mean_abs += s.weight * s.value.cwiseAbs().sum();
@@ -106,14 +141,17 @@ Metrics evaluate_metrics(const Model& model, const std::vector<double>& values, 
         for (int c = 0; c < 3; ++c) predicted[c] = model.shade(per_channel_values[c].data(), s.l, s.v)[c];
       }
       for (int c = 0; c < 3; ++c) {
-        const double p = predicted[c], m = s.value[c];
+        const double p = predicted[c], m = s.value[c], difference = p - m;
+        // metric_residual's log(1 + p⁺) − log1p(m⁺) as one logarithm of their ratio: its two
+        // calls (glibc's log1p is slow) were a sixth of this pass (lambert: 0.156 -> 0.132 s).
+        const double log_residual = std::log((1.0 + std::max(p, 0.0)) / (1.0 + std::max(m, 0.0)));
         sums.weight += s.weight;
-        sums.cosine += s.weight * std::pow(metric_residual(Metric::Cosine, p, m), 2);
-        sums.log += s.weight * std::pow(metric_residual(Metric::Log, p, m), 2);
+        sums.cosine += s.weight * difference * difference;
+        sums.log += s.weight * log_residual * log_residual;
         sums.relative += s.weight * std::pow(metric_residual(Metric::Relative, p, m), 2);
-        sums.plain += std::pow(p - m, 2);
-        sums.max = std::max(sums.max, std::fabs(p - m));
-        sums.typical[bin_of(std::fabs(p - m) / (std::fabs(m) + floor))] += s.weight;
+        sums.plain += difference * difference;
+        sums.max = std::max(sums.max, std::fabs(difference));
+        sums.typical[bins.bin_of(std::fabs(difference) / (std::fabs(m) + floor))] += s.weight;
         ++sums.count;
       }
     }

@@ -1,6 +1,7 @@
 // The fitter's objective and the reported metrics, against values computed by hand.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 #include "brdffit/error.h"
@@ -37,6 +38,38 @@ TEST(Metrics, MatchHandComputedValuesOnATinyTable) {
   // typical: the weighted median of |p−m|/(|m| + m̄/10), m̄ = (0.4 + 3·0.8)/4 = 0.7; the sample of
   // weight 3 holds the median. Read from a histogram with 1.2 % bins.
   EXPECT_NEAR(m.typical, std::fabs(d2) / (0.8 + 0.07), 0.012 * std::fabs(d2) / 0.87);
+}
+
+TEST(Metrics, TypicalIsTheWeightedMedianOfRelativeErrorsOverTenDecades) {
+  // Relative errors |p−m|/(|m| + m̄/10) from 1e-5 to 1e5 at random weights: the reported typical
+  // value is the centre of the histogram bin (1/200 of a decade) that holds their weighted median.
+  // Many small sets: each median lands at another place within its bin.
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> exponent(-4.0, 3.0), weight(0.5, 2.0);
+  for (int trial = 0; trial < 300; ++trial) {
+    SampleSet set;
+    double weighted_sum = 0.0, weight_sum = 0.0;
+    for (int i = 0; i < 21; ++i) {
+      const double measured = std::pow(10.0, exponent(rng)), w = weight(rng);
+      set.samples.push_back({Vec3(0, 0, 1), Vec3(0, 0, 1), Rgb<double>::Constant(measured), w});
+      weighted_sum += w * measured;
+      weight_sum += w;
+    }
+    const double floor = 0.1 * weighted_sum / weight_sum;
+    std::vector<std::pair<double, double>> relative;  // error, weight
+    for (const Sample& s : set.samples)
+      relative.emplace_back(std::fabs(kPredicted - s.value[0]) / (s.value[0] + floor), s.weight);
+    std::sort(relative.begin(), relative.end());
+    double below = 0.0, median = NAN;
+    for (const auto& [error, w] : relative)
+      if ((below += w) >= 0.5 * weight_sum) {
+        median = error;
+        break;
+      }
+    const Metrics m = evaluate_metrics(*find_model("lambert"), {1.0, 1.0, 1.0}, set);
+    ASSERT_LE(std::fabs(std::log10(m.typical) - std::log10(median)), 0.5 / 200 + 1e-12)
+        << "trial " << trial << ": typical " << m.typical << ", weighted median " << median;
+  }
 }
 
 // kMetrics (metric.h) is the one list parsing, naming, documents, tables and help read: each entry
