@@ -2,7 +2,9 @@
 #include <ceres/jet.h>
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <type_traits>
 
 #include "brdffit/math.h"
 
@@ -47,6 +49,32 @@ TEST(OfParameters, PutsTheChainRuleBackOnTheWideJet) {
   const Jet5 one = of_one_parameter(z, [](const auto& a) { return a * a * a; });
   EXPECT_NEAR(one.v[4], 3.0 * 0.16 * 3.0, 1e-14);
   EXPECT_EQ(one.v[0], 0.0);
+}
+
+// A function returning several values (terms sharing their steps): each comes back as the one-value
+// form would give it, for Jets and for doubles.
+TEST(OfParameters, CarriesEachOfSeveralValuesThroughTheChainRule) {
+  Jet5 x(0.7), y(1.3);
+  x.v << 1.0, 0.0, 2.0, 0.0, 0.5;
+  y.v << 0.0, 1.0, -1.0, 4.0, 0.0;
+  const auto ratio_and_product = [](const auto& a, const auto& b) {
+    using R = std::decay_t<decltype(a)>;
+    return std::array<R, 2>{a / b, a * b};
+  };
+  const auto [ratio, product] = of_parameters(ratio_and_product, x, y);
+  const Jet5 wide_ratio = x / y, wide_product = x * y;
+  EXPECT_DOUBLE_EQ(ratio.a, 0.7 / 1.3);
+  EXPECT_DOUBLE_EQ(product.a, 0.7 * 1.3);
+  for (int slot = 0; slot < 5; ++slot) {
+    // ∂(a/b) = ∂a/b − a·∂b/b², ∂(ab) = b·∂a + a·∂b, by hand at a = 0.7, b = 1.3.
+    EXPECT_NEAR(ratio.v[slot], x.v[slot] / 1.3 - 0.7 * y.v[slot] / (1.3 * 1.3), 1e-14) << "slot " << slot;
+    EXPECT_NEAR(product.v[slot], 1.3 * x.v[slot] + 0.7 * y.v[slot], 1e-14) << "slot " << slot;
+    EXPECT_NEAR(ratio.v[slot], wide_ratio.v[slot], 1e-14);
+    EXPECT_NEAR(product.v[slot], wide_product.v[slot], 1e-14);
+  }
+  const auto [plain_ratio, plain_product] = of_parameters(ratio_and_product, 0.7, 1.3);
+  EXPECT_DOUBLE_EQ(plain_ratio, 0.7 / 1.3);
+  EXPECT_DOUBLE_EQ(plain_product, 0.7 * 1.3);
 }
 
 }  // namespace

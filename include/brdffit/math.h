@@ -6,6 +6,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <cmath>
 #include <type_traits>
 #include <utility>
@@ -42,25 +43,36 @@ auto value_of(const J& j) -> decltype(j.a) {
 // two parameters (a lobe of its roughness, a table read at it, a Fresnel of its ior) then costs
 // one or two derivatives instead of one per fitted value: a Jet of nine derivatives does nine
 // times the work in every step of f. f is called with doubles or with Jets of sizeof…(x)
-// derivatives (a generic lambda).
+// derivatives (a generic lambda), and returns one value or a std::array of values (terms that
+// share their steps), which come back as the same.
 template <class F, class... X, std::enable_if_t<(std::is_same_v<X, double> && ...), int> = 0>
-double of_parameters(F&& f, const X&... x) {
+auto of_parameters(F&& f, const X&... x) {
   return f(x...);
 }
 namespace detail {
-template <template <class, int> class Jet, int N, class F, class... X, size_t... I>
-Jet<double, N> on_narrow_jets(F&& f, std::index_sequence<I...>, const X&... x) {
-  using Narrow = Jet<double, static_cast<int>(sizeof...(X))>;
-  const Narrow y = f(Narrow(x.a, static_cast<int>(I))...);
+template <template <class, int> class Jet, int N, class Narrow, class... X, size_t... I>
+Jet<double, N> widened(const Narrow& y, std::index_sequence<I...>, const X&... x) {
   Jet<double, N> out;
   out.a = y.a;
   out.v.setZero();
   ((out.v += y.v[I] * x.v), ...);
   return out;
 }
+template <template <class, int> class Jet, int N, class F, class... X, size_t... I>
+auto on_narrow_jets(F&& f, std::index_sequence<I...> slots, const X&... x) {
+  using Narrow = Jet<double, static_cast<int>(sizeof...(X))>;
+  const auto y = f(Narrow(x.a, static_cast<int>(I))...);
+  if constexpr (std::is_same_v<std::decay_t<decltype(y)>, Narrow>) {
+    return widened<Jet, N>(y, slots, x...);
+  } else {
+    std::array<Jet<double, N>, std::tuple_size_v<std::decay_t<decltype(y)>>> out;
+    for (size_t k = 0; k < out.size(); ++k) out[k] = widened<Jet, N>(y[k], slots, x...);
+    return out;
+  }
+}
 }  // namespace detail
 template <class F, template <class, int> class Jet, int N, class... X>
-Jet<double, N> of_parameters(F&& f, const Jet<double, N>& x, const X&... more) {
+auto of_parameters(F&& f, const Jet<double, N>& x, const X&... more) {
   return detail::on_narrow_jets<Jet, N>(f, std::index_sequence_for<Jet<double, N>, X...>(), x, more...);
 }
 template <class T, class F>

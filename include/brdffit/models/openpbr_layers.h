@@ -123,32 +123,33 @@ Rgb<T> openpbr_coat_layer(const T* p, const T* coat, const Vec3& l, const Vec3& 
   const Rgb<T> below = OpenPbr::brdf(base.data(), l, v);
 
   // The coat's lobe at full weight, and the part of the light it reflects from v (1 - throughput
-  // at full weight): both functions of its roughness and ior.
+  // at full weight): both functions of its roughness and ior, sharing their Fresnel, fitted albedo
+  // and energy compensation, so evaluated together.
   const double nl = l.z(), nv = v.z();
   const Vec3 h = half_vector(l, v);
-  auto coat_terms = [&](const auto& rc, const auto& nc, bool want_lobe) {
-    using R = std::decay_t<decltype(rc)>;
-    const R alpha = rc * rc;
-    const R fresnel = dielectric_fresnel(v.dot(h), nc);
-    R scale, bias;
-    materialx_ggx_albedo_fit(nv, alpha, scale, bias);
-    const R single_scattering = scale + bias;
-    const R compensation = 1.0 + fresnel * (1.0 - single_scattering) / single_scattering;
-    if (!want_lobe) {
-      const R f0_root = (nc - 1.0) / (nc + 1.0);
-      return R((f0_root * f0_root * scale + bias) * compensation);
-    }
-    // Isotropic D and G2 in MaterialX's form: D = α²/(π((n·h)²(α² - 1) + 1)²) and
-    // G2/(4 n·l n·v) = 1/(2(λl n·v + λv n·l)), λ = √(α² + (1 - α²)μ²).
-    const R alpha2 = alpha * alpha, ndf_root = h.z() * h.z() * (alpha2 - 1.0) + 1.0;
-    const R lambda_l = sqrt(alpha2 + (1.0 - alpha2) * (nl * nl)), lambda_v = sqrt(alpha2 + (1.0 - alpha2) * (nv * nv));
-    return R(alpha2 * fresnel * compensation / (2.0 * kPi * ndf_root * ndf_root * (lambda_l * nv + lambda_v * nl)));
-  };
-  const T lobe = weight * of_two_parameters(coat_roughness, coat_ior,
-                                            [&](const auto& rc, const auto& nc) { return coat_terms(rc, nc, true); });
-  const T throughput = 1.0 - weight * of_two_parameters(coat_roughness, coat_ior, [&](const auto& rc, const auto& nc) {
-                               return coat_terms(rc, nc, false);
-                             });
+  const auto [full_lobe, full_reflected] = of_parameters(
+      [&](const auto& rc, const auto& nc) {
+        using R = std::decay_t<decltype(rc)>;
+        const R alpha = rc * rc;
+        const R fresnel = dielectric_fresnel(v.dot(h), nc);
+        R scale, bias;
+        materialx_ggx_albedo_fit(nv, alpha, scale, bias);
+        const R single_scattering = scale + bias;
+        const R compensation = 1.0 + fresnel * (1.0 - single_scattering) / single_scattering;
+        const R f0_root = (nc - 1.0) / (nc + 1.0);
+        const R reflected = (f0_root * f0_root * scale + bias) * compensation;
+        // Isotropic D and G2 in MaterialX's form: D = α²/(π((n·h)²(α² - 1) + 1)²) and
+        // G2/(4 n·l n·v) = 1/(2(λl n·v + λv n·l)), λ = √(α² + (1 - α²)μ²).
+        const R alpha2 = alpha * alpha, ndf_root = h.z() * h.z() * (alpha2 - 1.0) + 1.0;
+        const R lambda_l = sqrt(alpha2 + (1.0 - alpha2) * (nl * nl)),
+                lambda_v = sqrt(alpha2 + (1.0 - alpha2) * (nv * nv));
+        const R lobe =
+            alpha2 * fresnel * compensation / (2.0 * kPi * ndf_root * ndf_root * (lambda_l * nv + lambda_v * nl));
+        return std::array<R, 2>{lobe, reflected};
+      },
+      coat_roughness, coat_ior);
+  const T lobe = weight * full_lobe;
+  const T throughput = 1.0 - weight * full_reflected;
 
   // Darkening by the coat's internal reflections (K), and its absorption.
   const T internal_reflection = of_one_parameter(coat_ior, [](const auto& nc) {
@@ -190,21 +191,24 @@ Rgb<T> openpbr_fuzz_layer(const Rgb<T>& below, const T* fuzz, const Vec3& l, con
   const double tangential = std::sqrt(v.x() * v.x() + v.y() * v.y());  // v is a unit vector: no hypot needed
   const double cx = tangential > 0.0 ? v.x() / tangential : 1.0, cy = tangential > 0.0 ? v.y() / tangential : 0.0;
   const double wx = l.x() * cx + l.y() * cy, wy = l.y() * cx - l.x() * cy, wz = l.z();
-  // The fuzz's BRDF at full weight, a function of σ alone (terms of one parameter run on Jets of
-  // one derivative, math.h): D_ltc / (n·l) = (a⁻¹/|w|²)²/π (the transformed cosine's w_z is
-  // n·l > 0), times E.
-  const T unit_fuzz_brdf = of_one_parameter(sigma, [&](const auto& sigma) {
-    using S = std::decay_t<decltype(sigma)>;
-    const S a_inv = (2.58126 * x + 0.813703 * sigma) * sigma / (1.0 + 0.310327 * x * x + 2.60994 * x * sigma);
-    const S b_inv = std::sqrt(1.0 - x) * (sigma - 1.0) * sigma * sigma * sigma /
-                    (0.0000254053 + 1.71228 * x - 1.71506 * x * sigma + 1.34174 * sigma * sigma);
-    const S ox = a_inv * wx + b_inv * wz, oy = a_inv * wy;
-    const S length2 = ox * ox + oy * oy + wz * wz;
-    const S ratio = a_inv / length2;
-    return S(albedo_of(sigma) * ratio * ratio * kInvPi);
-  });
+  // The fuzz's BRDF at full weight and its albedo E, functions of σ alone (terms of one parameter
+  // run on Jets of one derivative, math.h): D_ltc / (n·l) = (a⁻¹/|w|²)²/π (the transformed
+  // cosine's w_z is n·l > 0), times E.
+  const auto [unit_fuzz_brdf, fuzz_albedo] = of_parameters(
+      [&](const auto& sigma) {
+        using S = std::decay_t<decltype(sigma)>;
+        const S a_inv = (2.58126 * x + 0.813703 * sigma) * sigma / (1.0 + 0.310327 * x * x + 2.60994 * x * sigma);
+        const S b_inv = std::sqrt(1.0 - x) * (sigma - 1.0) * sigma * sigma * sigma /
+                        (0.0000254053 + 1.71228 * x - 1.71506 * x * sigma + 1.34174 * sigma * sigma);
+        const S ox = a_inv * wx + b_inv * wz, oy = a_inv * wy;
+        const S length2 = ox * ox + oy * oy + wz * wz;
+        const S ratio = a_inv / length2;
+        const S albedo = albedo_of(sigma);
+        return std::array<S, 2>{S(albedo * ratio * ratio * kInvPi), albedo};
+      },
+      sigma);
   const T fuzz_brdf = weight * unit_fuzz_brdf;
-  const T through = 1.0 - weight * of_one_parameter(sigma, albedo_of);
+  const T through = 1.0 - weight * fuzz_albedo;
   Rgb<T> f;
   for (int c = 0; c < 3; ++c) f[c] = fuzz_color[c] * fuzz_brdf + through * below[c];
   return f;
