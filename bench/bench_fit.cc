@@ -71,6 +71,8 @@ int main(int argc, char** argv) {
   FitOptions options;
   app.add_option("--starts", options.starts, "Best grid points refined on the subsample");
   app.add_option("--grid-points", options.grid_points, "Multi-start grid size");
+  app.add_option("--subsample", options.subsample,
+                 "Samples of the grid and the first refinements (the importance subsets are 10x, 100x, ...)");
   std::vector<std::string> start_values;
   app.add_option("--start", start_values, "NAME=VALUE the fit starts from besides its grid (one model only)");
   std::string metric = "cosine";
