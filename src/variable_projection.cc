@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <stdexcept>
 
 namespace brdffit {
 
@@ -58,25 +59,34 @@ double solve_linear(const Model& model, std::vector<double>& values, const std::
   if (linear.empty()) return NAN;
   const int m = static_cast<int>(linear.size());
 
-  std::array<Eigen::MatrixXd, 3> a;
-  std::array<Eigen::VectorXd, 3> b;
+  // The normal equations per channel, summed in plain arrays: Eigen's dynamic matrices reloaded
+  // their storage at every term (the sums were a seventh of a solve for sgd).
+  constexpr int kMaxLinear = 8;
+  if (m > kMaxLinear) throw std::logic_error(model.name() + ": more linear parameters than solve_linear takes");
+  double normal[3][kMaxLinear][kMaxLinear] = {}, projection[3][kMaxLinear] = {};
   std::array<double, 3> target_squares{0.0, 0.0, 0.0};  // Σ w·target², for the cost at the solution
-  for (int c = 0; c < 3; ++c) {
-    a[c] = Eigen::MatrixXd::Zero(m, m);
-    b[c] = Eigen::VectorXd::Zero(m);
-  }
-  std::vector<Rgb<double>> basis(m);
+  Rgb<double> basis[kMaxLinear];
   for (const Sample& s : samples) {
-    const Rgb<double> base = model.shade_linear_parts(values.data(), s.l, s.v, basis.data());
+    const Rgb<double> base = model.shade_linear_parts(values.data(), s.l, s.v, basis);
     for (int c = 0; c < 3; ++c) {
       if (!channels[c]) continue;
       const double w = metric_linear_weight(metric, s.weight, s.value[c]);
       const double target = s.value[c] - base[c];
       target_squares[c] += w * target * target;
       for (int i = 0; i < m; ++i) {
-        b[c][i] += w * basis[i][c] * target;
-        for (int j = 0; j < m; ++j) a[c](i, j) += w * basis[i][c] * basis[j][c];
+        projection[c][i] += w * basis[i][c] * target;
+        for (int j = 0; j < m; ++j) normal[c][i][j] += w * basis[i][c] * basis[j][c];
       }
+    }
+  }
+  std::array<Eigen::MatrixXd, 3> a;
+  std::array<Eigen::VectorXd, 3> b;
+  for (int c = 0; c < 3; ++c) {
+    a[c].resize(m, m);
+    b[c].resize(m);
+    for (int i = 0; i < m; ++i) {
+      b[c][i] = projection[c][i];
+      for (int j = 0; j < m; ++j) a[c](i, j) = normal[c][i][j];
     }
   }
   Eigen::VectorXd lower(m), upper(m);

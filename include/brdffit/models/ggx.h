@@ -27,6 +27,7 @@ struct GgxLobe : Lobe {
   static constexpr bool kEnergyConserving = true;
   static constexpr bool kSeparateChannels = true;
   static constexpr int kNumParameters = 2;
+  static constexpr bool kScaledByLinearParameter = false;  // Schlick's F is affine in f0, not 0 at f0 = 0
   enum : int { kRoughness = 0, kF0 = 1, kNumValues = 4 };
 
   static std::vector<ParamSpec> parameters() {

@@ -34,6 +34,7 @@ struct GgxAnisoLobe : Lobe {
   static constexpr bool kEnergyConserving = true;
   static constexpr bool kSeparateChannels = true;
   static constexpr int kNumParameters = 4;
+  static constexpr bool kScaledByLinearParameter = false;  // Schlick's F is affine in f0, not 0 at f0 = 0
   enum : int { kF0 = 0, kAlphaX = 3, kAlphaY = 4, kPhi0 = 5, kNumValues = 6 };
 
   static std::vector<ParamSpec> parameters() {

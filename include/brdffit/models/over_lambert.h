@@ -10,7 +10,8 @@
 //     enum { kRoughness = 0, ..., kNumValues }  offsets of the lobe's own values, from 0
 //     parameters()                              the lobe's own, in the model's order after albedo
 //     lobe<T>(p, l, v)                          the lobe's f (1/sr) at its own values p, T double or ceres::Jet
-//     nestings(), recovery_facts(), lobe_vanishes(l, v): optional, Lobe's below otherwise
+//     nestings(), recovery_facts(), lobe_vanishes(l, v),
+//     kScaledByLinearParameter: optional, Lobe's below otherwise
 //   };
 //   using Ggx = OverLambert<GgxLobe>;          the model, one line in the registry
 //
@@ -33,6 +34,10 @@ struct Lobe {
   // Where the lobe is 0 without being evaluated: a direction at or below the horizon. A lobe its
   // source evaluates there too declares its own (beckmann, gaussian, low-smooth).
   static bool lobe_vanishes(const Vec3& l, const Vec3& v) { return l.z() <= 0.0 || v.z() <= 0.0; }
+  // Whether the lobe's linear parameter, if it has one (specular, A), scales it: lobe(q) = q·lobe(1).
+  // Variable projection then takes the lobe's part from one evaluation on doubles at q = 1
+  // (model_adapter.h). A lobe merely affine in it declares false (ggx's Schlick f0).
+  static constexpr bool kScaledByLinearParameter = true;
   static std::vector<Nesting> nestings() { return {}; }
   static RecoveryFacts recovery_facts() { return {}; }
 };
@@ -46,6 +51,7 @@ struct OverLambert {
   // The Lambert term's channel c reads albedo's component c only.
   static constexpr bool kSeparateChannels = L::kSeparateChannels;
   static constexpr int kNumParameters = 1 + L::kNumParameters;
+  static constexpr bool kLobeScaledByLinearParameter = L::kScaledByLinearParameter;
   enum : int { kAlbedo = 0, kLobe = 3, kNumValues = kLobe + L::kNumValues };
 
   static std::vector<ParamSpec> parameters() {

@@ -18,6 +18,7 @@
 #include <iterator>
 #include <stdexcept>
 #include <type_traits>
+#include <utility>
 
 #include "brdffit/fit_residual.h"
 #include "brdffit/model.h"
@@ -46,6 +47,7 @@ class ModelAdapter final : public Model, public BatchCostSource {
           throw std::logic_error(name_ + ": more linear parameters than ModelAdapter::kMaxLinearParameters");
         for (int c = 0; c < p.channels; ++c)
           linear_slot_[offset + c] = SeparateChannels<M>::value ? linear_count_ : 3 * linear_count_ + c;
+        linear_values_[linear_count_] = {offset, p.channels};
         ++linear_count_;
       }
       offset += p.channels;
@@ -95,6 +97,7 @@ class ModelAdapter final : public Model, public BatchCostSource {
   // value is affine in them: for sgd a third of the cost of evaluating three times.
   Rgb<double> shade_linear_parts(const double* values, const Vec3& l, const Vec3& v,
                                  Rgb<double>* basis) const override {
+    if constexpr (ScaledLobeOverLambert<M>::value) return scaled_lobe_linear_parts(values, l, v, basis);
     constexpr bool kPerParameter = SeparateChannels<M>::value;
     using Jet = ceres::Jet<double, kPerParameter ? kMaxLinearParameters : 3 * kMaxLinearParameters>;
     // Written in place: a temporary Jet per value, its derivative stored 8 bytes at a time and
@@ -111,6 +114,23 @@ class ModelAdapter final : public Model, public BatchCostSource {
     for (int j = 0; j < linear_count_; ++j)
       for (int c = 0; c < 3; ++c) basis[j][c] = s[c].v[kPerParameter ? j : 3 * j + c];
     return Rgb<double>(s[0].a, s[1].a, s[2].a);
+  }
+
+  // shade_linear_parts of a lobe over Lambert that its linear parameter scales, from one evaluation
+  // on doubles: albedo's part is n·l/π, the lobe's its shade at albedo 0 and scale 1, the base 0
+  // (or, for a lobe with no linear parameter, that shade). On Jets every shape term carried the
+  // derivatives too: sgd's evaluation took 1.7 times as long, ggx's 2.6 times.
+  Rgb<double> scaled_lobe_linear_parts(const double* values, const Vec3& l, const Vec3& v, Rgb<double>* basis) const {
+    double unit[M::kNumValues];
+    std::copy_n(values, M::kNumValues, unit);
+    std::fill_n(unit + linear_values_[0].first, linear_values_[0].second, 0.0);  // albedo (over_lambert.h)
+    if (linear_count_ == 2) std::fill_n(unit + linear_values_[1].first, linear_values_[1].second, 1.0);
+    const Rgb<double> lobe = shade_of<M>(unit, l, v);
+    const double lambert = l.z() > 0.0 ? kInvPi * l.z() : 0.0;
+    basis[0] = Rgb<double>::Constant(lambert);
+    if (linear_count_ == 1) return lobe;
+    basis[1] = lobe;
+    return Rgb<double>::Zero();
   }
 
   const std::vector<Nesting>& nestings() const override { return nestings_; }
@@ -130,11 +150,18 @@ class ModelAdapter final : public Model, public BatchCostSource {
   template <template <class> class Member, class N>
   struct Declares<Member, N, std::void_t<Member<N>>> : std::true_type {};
 
+  template <class N, class = void>
+  struct ScaledLobeOverLambert : std::false_type {};
+  template <class N>
+  struct ScaledLobeOverLambert<N, std::enable_if_t<models::IsOverLambert<N>::value>>
+      : std::bool_constant<N::kLobeScaledByLinearParameter> {};
+
   static constexpr int kMaxLinearParameters = 2;  // the most any model has (albedo and specular)
 
   std::string name_, summary_;
   std::vector<ParamSpec> params_;
-  int linear_slot_[M::kNumValues];  // -1 for a value that is not linear
+  int linear_slot_[M::kNumValues];                           // -1 for a value that is not linear
+  std::pair<int, int> linear_values_[kMaxLinearParameters];  // each linear parameter's offset and channels
   int linear_count_ = 0;
   std::vector<Nesting> nestings_;
   RecoveryFacts recovery_facts_;
