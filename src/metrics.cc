@@ -2,6 +2,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 #include "brdffit/error.h"
 #include "brdffit/fit.h"
@@ -92,10 +94,13 @@ class LogBins {
   int bin_of(double x) const {
     if (!(x >= edges_[1])) return 0;  // NaN too
     if (x >= edges_[kBins - 1]) return kBins - 1;
-    int exponent;
-    const double mantissa = std::frexp(x, &exponent);  // x = mantissa·2^exponent, mantissa in [½, 1)
-    const int cell = static_cast<int>((mantissa - 0.5) * (2 * kCells));
-    const double log10_below = exponent * kLog10Of2 + cell_log10_[cell];  // of the cell's lower end
+    // x = mantissa·2^exponent with mantissa in [½, 1), as frexp gives them (x is normal here),
+    // read from x's bits: glibc's frexp is a call per sample and channel.
+    uint64_t bits;
+    std::memcpy(&bits, &x, sizeof bits);
+    const int exponent = static_cast<int>((bits >> 52) & 0x7ff) - 1022;
+    const int cell = static_cast<int>((bits >> (52 - kCellBits)) & (kCells - 1));  // the mantissa's leading bits
+    const double log10_below = exponent * kLog10Of2 + cell_log10_[cell];           // of the cell's lower end
     // A cell spans a third of a bin: at most one edge lies between its lower end and x.
     const int b = std::clamp(static_cast<int>((log10_below + kDecades / 2) * kBinsPerDecade), 1, kBins - 2);
     if (x >= edges_[b + 1]) return b + 1;
@@ -103,7 +108,7 @@ class LogBins {
   }
 
  private:
-  static constexpr int kCells = 256;
+  static constexpr int kCellBits = 8, kCells = 1 << kCellBits;
   static constexpr double kLog10Of2 = 0.30102999566398120;
   std::array<double, kBins + 1> edges_;
   std::array<double, kCells> cell_log10_;
@@ -126,12 +131,15 @@ Metrics evaluate_metrics(const Model& model, const std::vector<double>& values, 
   struct Sums {
     double weight = 0, cosine = 0, log = 0, relative = 0, plain = 0, max = 0;
     size_t count = 0;
-    std::vector<double> typical = std::vector<double>(kBins, 0.0);
   };
   const size_t chunks = 64;
   std::vector<Sums> partial(chunks);
+  std::vector<std::vector<double>> typical(chunks, std::vector<double>(kBins, 0.0));  // per chunk
   parallel_chunks(data.size(), chunks, thread_count(0), [&](size_t begin, size_t end, size_t chunk) {
-    Sums& sums = partial[chunk];
+    // Summed in locals, not in partial[chunk]: the histogram's stores could alias its fields,
+    // which then went through memory at every sample.
+    Sums sums;
+    double* histogram = typical[chunk].data();
     for (size_t i = begin; i < end; ++i) {
       const Sample& s = data.samples[i];
       Rgb<double> predicted;
@@ -151,13 +159,16 @@ Metrics evaluate_metrics(const Model& model, const std::vector<double>& values, 
         sums.relative += s.weight * std::pow(metric_residual(Metric::Relative, p, m), 2);
         sums.plain += difference * difference;
         sums.max = std::max(sums.max, std::fabs(difference));
-        sums.typical[bins.bin_of(std::fabs(difference) / (std::fabs(m) + floor))] += s.weight;
+        histogram[bins.bin_of(std::fabs(difference) / (std::fabs(m) + floor))] += s.weight;
         ++sums.count;
       }
     }
+    partial[chunk] = sums;
   });
   Sums total;
-  for (const Sums& s : partial) {
+  std::vector<double> total_typical(kBins, 0.0);
+  for (size_t chunk = 0; chunk < chunks; ++chunk) {
+    const Sums& s = partial[chunk];
     total.weight += s.weight;
     total.cosine += s.cosine;
     total.log += s.log;
@@ -165,7 +176,7 @@ Metrics evaluate_metrics(const Model& model, const std::vector<double>& values, 
     total.plain += s.plain;
     total.max = std::max(total.max, s.max);
     total.count += s.count;
-    for (int b = 0; b < kBins; ++b) total.typical[b] += s.typical[b];
+    for (int b = 0; b < kBins; ++b) total_typical[b] += typical[chunk][b];
   }
   Metrics metrics;
   if (total.count == 0) return metrics;
@@ -176,7 +187,7 @@ Metrics evaluate_metrics(const Model& model, const std::vector<double>& values, 
   metrics.max = total.max;
   double below = 0.0;
   for (int b = 0; b < kBins; ++b) {
-    below += total.typical[b];
+    below += total_typical[b];
     if (below >= 0.5 * total.weight) {
       metrics.typical = std::pow(10.0, (b + 0.5) / kBinsPerDecade - kDecades / 2);
       break;

@@ -56,16 +56,42 @@ T sheen_charlie_d(const T& sheen_roughness, double nh) {
   return (2.0 + inv_alpha) * pow_of_direction_term(1.0 - nh * nh, 0.5 * inv_alpha) / (2.0 * kPi);
 }
 
-// The spec's Λ of the Charlie visibility at a cosine μ in (0, 1] for α = sheenRoughness².
+// The spec's Λ of the Charlie visibility at cosines μ in (0, 1] for one α = sheenRoughness²: its
+// coefficients (each a mix in α) and 2 L(0.5) (a power, computed when a μ ≥ 0.5 first asks) are
+// shared by a sample's two directions.
+template <class T>
+class SheenCharlieLambda {
+ public:
+  explicit SheenCharlieLambda(const T& alpha) {
+    const T t = (1.0 - alpha) * (1.0 - alpha);
+    const auto mix = [&t](double x, double y) { return x + (y - x) * t; };
+    a_ = mix(21.5473, 25.3245);
+    b_ = mix(3.82987, 3.32435);
+    c_ = mix(0.19823, 0.16801);
+    d_ = mix(-1.97760, -1.27393);
+    e_ = mix(-4.32054, -4.85967);
+  }
+  T operator()(double mu) const {
+    using std::exp;
+    if (mu < 0.5) return exp(l(mu));
+    if (!has_twice_at_half_) {
+      twice_at_half_ = 2.0 * l(0.5);
+      has_twice_at_half_ = true;
+    }
+    return exp(twice_at_half_ - l(1.0 - mu));
+  }
+
+ private:
+  T l(double x) const { return a_ / (1.0 + b_ * pow_of_direction_term(x, c_)) + d_ * x + e_; }
+  T a_, b_, c_, d_, e_;
+  mutable T twice_at_half_;
+  mutable bool has_twice_at_half_ = false;
+};
+
+// Λ at one cosine.
 template <class T>
 T sheen_charlie_lambda(double mu, const T& alpha) {
-  using std::exp;
-  const T t = (1.0 - alpha) * (1.0 - alpha);
-  const auto mix = [&t](double x, double y) { return x + (y - x) * t; };
-  const T a = mix(21.5473, 25.3245), b = mix(3.82987, 3.32435), c = mix(0.19823, 0.16801), d = mix(-1.97760, -1.27393),
-          e = mix(-4.32054, -4.85967);
-  const auto l = [&](double x) { return a / (1.0 + b * pow_of_direction_term(x, c)) + d * x + e; };
-  return mu < 0.5 ? exp(l(mu)) : exp(2.0 * l(0.5) - l(1.0 - mu));
+  return SheenCharlieLambda<T>(alpha)(mu);
 }
 
 // D_S·V_S for l and v above the surface (sheenColor 1).
@@ -74,9 +100,8 @@ T sheen_charlie_dv(const T& sheen_roughness, const Vec3& l, const Vec3& v) {
   const double nl = l.z(), nv = v.z(), nh = half_vector(l, v).z();
   return of_one_parameter(sheen_roughness, [&](const auto& r) {
     using R = std::decay_t<decltype(r)>;
-    const R alpha = r * r;
-    const R visibility =
-        1.0 / ((1.0 + sheen_charlie_lambda(nv, alpha) + sheen_charlie_lambda(nl, alpha)) * (4.0 * nv * nl));
+    const SheenCharlieLambda<R> lambda(r * r);
+    const R visibility = 1.0 / ((1.0 + lambda(nv) + lambda(nl)) * (4.0 * nv * nl));
     return R(sheen_charlie_d(r, nh) * visibility);
   });
 }
