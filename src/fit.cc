@@ -128,9 +128,235 @@ struct NestedStart {
   double cost = NAN;
 };
 
+// Where the multi-start begins: the best points of two grids, the coordinate searches from them
+// where the shape is mostly in colours, and the contained models' optima, each costed on the
+// subsample `small`. Laps "grid" and "coordinate search".
+std::vector<Start> multi_starts(const Model& model, Subsamples& subsamples, const std::vector<Sample>& small,
+                                bool small_is_all, const FitOptions& options, const Channels& channels,
+                                const std::vector<double>& initial, const std::vector<NestedStart>& nested_starts,
+                                StageClock& clock) {
+  std::vector<Start> starts;
+  // The best points of two grids: over the scalar shape parameters with the colours at their
+  // start, and over the colours as well. Neither contains the other's best basin on every
+  // material: the first misses it when the shape is in the colours (sgd's are all colours),
+  // the second, with fewer points per parameter, misses it on some tables (openpbr on
+  // paper_white, 0.0471 against 0.0313).
+  //
+  // The grids only rank coarse starts, which a third of the subsample does as well (on the
+  // MERL proxies and a baked table every error but two came out the same, for a tenth to a
+  // fifth of every model's time: docs/performance.md); the points kept are costed again on the
+  // subsample, where the search and the refinements go on.
+  const size_t keep_best = static_cast<size_t>(std::max(1, options.starts));
+  const std::vector<Sample>& grid_samples = small_is_all ? small : subsamples.draw(options.subsample / 3, options.seed);
+  for (bool colours : {false, true}) {
+    if (colours && !has_non_linear_colour(model)) break;
+    std::vector<Start> grid = grid_starts(model, initial, grid_samples, options.metric, channels, options, colours);
+    grid.resize(std::min(grid.size(), keep_best));
+    if (!small_is_all)
+      for (Start& point : grid) point.cost = solved_cost(model, point.values, small, options.metric, channels);
+    // Both grids hold the defaults; a model whose shape is all colours (sgd) has nothing else
+    // in the first. The same point searched twice cost sgd a fifth of its fit.
+    for (Start& point : grid)
+      if (std::none_of(starts.begin(), starts.end(), [&](const Start& s) { return s.values == point.values; }))
+        starts.push_back(std::move(point));
+  }
+  clock.lap("grid");
+  // Searched from, besides the grid points themselves: the search does not always end in the
+  // better basin.
+  if (shape_mostly_in_colours(model)) {
+    SolvedCosts known(model);
+    for (size_t i = 0, n = starts.size(); i < n; ++i)
+      starts.push_back(coordinate_search(model, starts[i], small, options.metric, channels, options, known));
+  }
+  clock.lap("coordinate search");
+  // The contained models' optima are refined too: the multi-start grid may not come near them.
+  for (const NestedStart& nested : nested_starts) {
+    std::vector<double> values = nested.values;
+    const double cost = solved_cost(model, values, small, options.metric, channels);
+    starts.push_back({std::move(values), cost});
+  }
+  return starts;
+}
+
+// The starts refined on the subsample: every start screened with a few iterations, the best
+// 2·options.starts continued, the best of those walked on further. Returned best first. Laps
+// "screen" and "continue".
+std::vector<Refinement> screen_and_continue(const LeastSquares& on_subsample, const std::vector<Start>& starts,
+                                            bool small_is_all, const FitOptions& options, int& iterations,
+                                            StageClock& clock) {
+  // On the heavy models every start used to run its 50 iterations, most of their fit; on the
+  // MERL proxies the start that finishes best was the first after 8 iterations for sgd and among
+  // the six first elsewhere but twice, where one ranked lower finished 0.3 % (principled,
+  // red-fabric) and 0.08 % (openpbr, gold-metallic-paint) better (docs/performance.md).
+  constexpr int kScreenIterations = 8;
+  const int refine_iterations = small_is_all ? options.max_iterations : 50;
+  std::vector<Refinement> screened;
+  std::set<std::vector<double>> refined;
+  for (const Start& start : starts) {
+    // A search that found nothing better returns its grid point: the same refinement twice.
+    if (!refined.insert(start.values).second) continue;
+    Refinement r = on_subsample.run(start.values, std::min(kScreenIterations, refine_iterations));
+    iterations += r.iterations;
+    if (r.usable) screened.push_back(std::move(r));
+  }
+  clock.lap("screen");
+  std::sort(screened.begin(), screened.end(), [](const Refinement& a, const Refinement& b) { return a.cost < b.cost; });
+  screened.resize(std::min(screened.size(), 2 * static_cast<size_t>(std::max(1, options.starts))));
+  // A continued start stops at a relative cost change of 1e-6, as the subset stages do: below
+  // it, a start in its basin crawled on to its 50 iterations for changes no metric shows.
+  for (Refinement& r : screened)
+    if (r.iterations >= kScreenIterations) {  // stopped by the screen, not converged
+      Refinement more = on_subsample.run(r.values, refine_iterations - r.iterations, 1e-6, r.trust_region_radius, &r);
+      iterations += more.iterations;
+      if (more.usable) r = std::move(more);
+    }
+  std::stable_sort(screened.begin(), screened.end(),
+                   [](const Refinement& a, const Refinement& b) { return a.cost < b.cost; });
+  // The best walks on, to kBestStartIterations in all: a step here costs a tenth of one on the
+  // importance subset, whose walk from here is capped (kSubsetWalkIterations). Both measured
+  // together on the nine shared tables, all 36 models: sgd better on seven (acrylic_felt_green
+  // 21 %) and 7-43 % faster on eight, openpbr+coat+fuzz on blue-acrylic 30 % better, four errors
+  // worse by at most 0.03 %; 7 % less CPU in all (docs/performance.md, fourteenth round).
+  if (!screened.empty() && !small_is_all) {
+    Refinement& first = screened.front();
+    Refinement more = on_subsample.run(first.values, kBestStartIterations - refine_iterations, 1e-6,
+                                       first.trust_region_radius, &first);
+    iterations += more.iterations;
+    if (more.usable && more.cost <= first.cost) first = std::move(more);
+  }
+  clock.lap("continue");
+  return screened;
+}
+
+// Every candidate met on the way, with its objective on all samples (½Σ, as Ceres counts), or
+// for one that cannot be chosen, a part of it above the best kept before it.
+// Stages work on subsets whose optimum can be worse on all samples than where they started;
+// choosing on all samples discards such a stage, and keeping the contained models' optima
+// among the candidates means the result is never worse than theirs. A candidate at the same
+// optimum as one kept already (same_optimum) is not costed again, nor one whose cost is known
+// on all samples already (Costing::Known: a run on all samples ends with it).
+class Candidates {
+ public:
+  // How a candidate's cost on all samples is found: Alone, in a pass of its own given up once past
+  // the best kept (it cannot be chosen then); Known already; or in one pass together with what a
+  // later stage needs at the same values: its absolute errors (WithErrors, which the importance
+  // subsets are drawn from), its metrics (WithMetrics, which the fit reports where it ends), or
+  // its linear values solved exactly (WithLinearSolve, the candidate the fit nearly always ends at).
+  enum class Costing { Alone, Known, WithErrors, WithMetrics, WithLinearSolve };
+
+  Candidates(const Model& model, const SampleSet& data, const FitOptions& options, const Channels& channels,
+             const ceres::LossFunction* loss, int threads)
+      : model_(model),
+        data_(data),
+        options_(options),
+        channels_(channels),
+        loss_(loss),
+        threads_(threads),
+        slots_(value_slots(model)),
+        // Where the objective follows from the metrics (every channel, no robust loss:
+        // metric_weight_sum), the last candidate's cost and the metrics fit_one reports of the
+        // fit, which nearly always ends there, come from one pass.
+        costs_from_metrics_(channels == kAllChannels && !loss && !options.per_channel),
+        // Where the objective is the linear solve's quadratic (no robust loss, not the log
+        // metric), one pass of the solve gives both a candidate's cost and the solution.
+        costs_from_linear_solve_(!loss && metric_is_quadratic(options.metric)) {}
+
+  void keep(Refinement r, Costing costing = Costing::Alone) {
+    if (!r.usable) return;
+    if (std::any_of(kept_.begin(), kept_.end(),
+                    [&](const Refinement& c) { return same_optimum(slots_, c.values, r.values); }))
+      return;
+    if (costing == Costing::WithLinearSolve && costs_from_linear_solve_) {
+      std::vector<double> solution = r.values;
+      double cost_as_given = NAN;
+      solve_linear(model_, solution, data_.samples, options_.metric, channels_, &cost_as_given);
+      if (std::isfinite(cost_as_given)) {
+        r.cost = 0.5 * cost_as_given;
+        solved_.emplace_back(r.values, std::move(solution));
+        costing = Costing::Known;
+      }
+    }
+    if (costing == Costing::WithErrors) {
+      r.cost = 0.5 * cost_and_absolute_errors(model_, r.values, data_.samples, options_.metric, channels_, loss_,
+                                              threads_, errors_);
+      errors_at_ = r.values;
+    } else if (costing == Costing::WithMetrics && costs_from_metrics_) {
+      metrics_ = evaluate_metrics(model_, r.values, data_);
+      r.cost = 0.5 * std::pow(metrics_->get(options_.metric), 2) * metric_weight_sum(data_.samples, options_.metric);
+      metrics_at_ = r.values;
+    } else if (costing != Costing::Known) {  // Alone, or a linear solve that gave no cost
+      const double beaten_above = best_cost();
+      r.cost = 0.5 * cost_of(model_, r.values, data_.samples, options_.metric, channels_, loss_, threads_,
+                             2.0 * beaten_above);
+    }
+    if (std::isfinite(r.cost)) kept_.push_back(std::move(r));
+  }
+
+  bool empty() const { return kept_.empty(); }
+  // The lowest cost kept; HUGE_VAL while none is.
+  double best_cost() const {
+    double best = HUGE_VAL;
+    for (const Refinement& c : kept_) best = std::min(best, c.cost);
+    return best;
+  }
+  // The first candidate of the lowest cost; nullptr while none is kept.
+  Refinement* cheapest() {
+    Refinement* best = nullptr;
+    for (Refinement& c : kept_)
+      if (!best || c.cost < best->cost) best = &c;
+    return best;
+  }
+
+  // The absolute errors on all samples at `values`, which the importance subsets are drawn from:
+  // those of the candidate costed WithErrors, where it is at these values, else a pass of their own.
+  std::vector<double> absolute_errors_at(const std::vector<double>& values) {
+    std::vector<double> errors =
+        errors_at_ == values ? std::move(errors_) : absolute_errors(model_, values, data_.samples, channels_, threads_);
+    errors_at_.clear();
+    return errors;
+  }
+
+  // The cheapest candidate with its linear values solved exactly on all samples, kept with its
+  // metrics: the stopping rule (a relative cost change of 1e-6) leaves them wherever the cost is
+  // flat enough, which under a bright peak can be a diffuse albedo a percent off its
+  // least-squares value. A candidate costed WithLinearSolve has its solution already.
+  void keep_cheapest_with_exact_linear_values() {
+    Refinement exact = *cheapest();
+    const auto known =
+        std::find_if(solved_.begin(), solved_.end(), [&](const auto& s) { return s.first == exact.values; });
+    if (known != solved_.end())
+      exact.values = known->second;
+    else
+      solve_linear(model_, exact.values, data_.samples, options_.metric, channels_);
+    keep(std::move(exact), Costing::WithMetrics);
+  }
+
+  // The metrics computed with a candidate's cost, if that candidate is at `values`.
+  std::optional<Metrics> take_metrics_at(const std::vector<double>& values) {
+    if (metrics_ && metrics_at_ == values) return std::move(metrics_);
+    return std::nullopt;
+  }
+
+ private:
+  const Model& model_;
+  const SampleSet& data_;
+  const FitOptions& options_;
+  const Channels& channels_;
+  const ceres::LossFunction* loss_;
+  const int threads_;
+  const std::vector<ValueSlot> slots_;
+  const bool costs_from_metrics_, costs_from_linear_solve_;
+  std::vector<Refinement> kept_;
+  std::vector<double> errors_, errors_at_;  // WithErrors' absolute errors, at errors_at_
+  std::optional<Metrics> metrics_;          // WithMetrics' metrics, at metrics_at_
+  std::vector<double> metrics_at_;
+  std::vector<std::pair<std::vector<double>, std::vector<double>>> solved_;  // values as costed, then solved
+};
+
 ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& subsamples, const FitOptions& options,
                         const Channels& channels, const std::vector<double>& initial,
                         const std::vector<NestedStart>& nested_starts) {
+  using Costing = Candidates::Costing;
   ChannelFit fit;
   StageClock clock(fit);
   const int threads = thread_count(options.threads);
@@ -138,51 +364,9 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
   clock.lap("subsample");
   const bool small_is_all = small.size() == data.samples.size();
 
-  std::vector<Start> starts;
-  if (options.single_start) {
-    starts.push_back({initial, 0.0});
-  } else {
-    // The best points of two grids: over the scalar shape parameters with the colours at their
-    // start, and over the colours as well. Neither contains the other's best basin on every
-    // material: the first misses it when the shape is in the colours (sgd's are all colours),
-    // the second, with fewer points per parameter, misses it on some tables (openpbr on
-    // paper_white, 0.0471 against 0.0313).
-    //
-    // The grids only rank coarse starts, which a third of the subsample does as well (on the
-    // MERL proxies and a baked table every error but two came out the same, for a tenth to a
-    // fifth of every model's time: docs/performance.md); the points kept are costed again on the
-    // subsample, where the search and the refinements go on.
-    const size_t keep_best = static_cast<size_t>(std::max(1, options.starts));
-    const std::vector<Sample>& grid_samples =
-        small_is_all ? small : subsamples.draw(options.subsample / 3, options.seed);
-    for (bool colours : {false, true}) {
-      if (colours && !has_non_linear_colour(model)) break;
-      std::vector<Start> grid = grid_starts(model, initial, grid_samples, options.metric, channels, options, colours);
-      grid.resize(std::min(grid.size(), keep_best));
-      if (!small_is_all)
-        for (Start& point : grid) point.cost = solved_cost(model, point.values, small, options.metric, channels);
-      // Both grids hold the defaults; a model whose shape is all colours (sgd) has nothing else
-      // in the first. The same point searched twice cost sgd a fifth of its fit.
-      for (Start& point : grid)
-        if (std::none_of(starts.begin(), starts.end(), [&](const Start& s) { return s.values == point.values; }))
-          starts.push_back(std::move(point));
-    }
-    clock.lap("grid");
-    // Searched from, besides the grid points themselves: the search does not always end in the
-    // better basin.
-    if (shape_mostly_in_colours(model)) {
-      SolvedCosts known(model);
-      for (size_t i = 0, n = starts.size(); i < n; ++i)
-        starts.push_back(coordinate_search(model, starts[i], small, options.metric, channels, options, known));
-    }
-    clock.lap("coordinate search");
-    // The contained models' optima are refined too: the multi-start grid may not come near them.
-    for (const NestedStart& nested : nested_starts) {
-      std::vector<double> values = nested.values;
-      const double cost = solved_cost(model, values, small, options.metric, channels);
-      starts.push_back({std::move(values), cost});
-    }
-  }
+  const std::vector<Start> starts = options.single_start ? std::vector<Start>{{initial, 0.0}}
+                                                         : multi_starts(model, subsamples, small, small_is_all, options,
+                                                                        channels, initial, nested_starts, clock);
 
   double loss_scale = options.loss_scale;
   if (options.loss != LossKind::None && loss_scale <= 0.0) {
@@ -192,69 +376,11 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
   }
   const std::unique_ptr<ceres::LossFunction> loss = make_loss(options.loss, loss_scale);
   const LeastSquares on_all(model, data.samples, options.metric, channels, loss.get(), options);
-  // A candidate's cost is given up once past the best kept so far (`beaten_above`): it cannot
-  // be chosen then.
-  auto full_cost = [&](const std::vector<double>& values, double beaten_above) {
-    return 0.5 *
-           cost_of(model, values, data.samples, options.metric, channels, loss.get(), threads, 2.0 * beaten_above);
-  };
 
-  // Every candidate met on the way, with its objective on all samples (½Σ, as Ceres counts), or
-  // for one that cannot be chosen, a part of it above the best kept before it.
-  // Stages work on subsets whose optimum can be worse on all samples than where they started;
-  // choosing on all samples discards such a stage, and keeping the contained models' optima
-  // among the candidates means the result is never worse than theirs. A candidate at the same
-  // optimum as one kept already (same_optimum) is not costed again, nor one whose cost is known
-  // on all samples already (Costing::Known: a run on all samples ends with it).
-  std::vector<Refinement> candidates;
-  const std::vector<ValueSlot> slots = value_slots(model);
-  // The absolute errors on all samples of the subsample's best start (at `errors_at`), which the
-  // importance subsets below are drawn from: computed with its cost on all samples, in one pass.
+  Candidates candidates(model, data, options, channels, loss.get(), threads);
+  // The absolute errors on all samples of the subsample's best start draw the importance subsets
+  // below: computed with its cost on all samples, in one pass.
   const bool draws_subsets = !options.single_start && small.size() * 10 < data.size();
-  std::vector<double> best_errors, errors_at;
-  // The metrics of the last candidate costed with them (at `metrics_at`): where the objective
-  // follows from them (every channel, no robust loss: metric_weight_sum), the last candidate's
-  // cost and the metrics fit_one reports of the fit, which nearly always ends there, in one pass.
-  const bool costs_from_metrics = channels == kAllChannels && !loss && !options.per_channel;
-  std::optional<Metrics> metrics;
-  std::vector<double> metrics_at;
-  // A subset's optimum is nearly always the best candidate, whose linear parameters are then solved
-  // exactly on all samples (below). Where the objective is the linear solve's quadratic (no robust
-  // loss, not the log metric), one pass of the solve gives both that candidate's cost and the
-  // solution (`solved`: values as costed, then solved).
-  const bool costs_from_linear_solve = !loss && metric_is_quadratic(options.metric);
-  std::vector<std::pair<std::vector<double>, std::vector<double>>> solved;
-  enum class Costing { Alone, Known, WithErrors, WithMetrics, WithLinearSolve };
-  auto keep = [&](Refinement r, Costing costing = Costing::Alone) {
-    if (!r.usable) return;
-    if (std::any_of(candidates.begin(), candidates.end(),
-                    [&](const Refinement& c) { return same_optimum(slots, c.values, r.values); }))
-      return;
-    if (costing == Costing::WithLinearSolve && costs_from_linear_solve) {
-      std::vector<double> solution = r.values;
-      double cost_as_given = NAN;
-      solve_linear(model, solution, data.samples, options.metric, channels, &cost_as_given);
-      if (std::isfinite(cost_as_given)) {
-        r.cost = 0.5 * cost_as_given;
-        solved.emplace_back(r.values, std::move(solution));
-        costing = Costing::Known;
-      }
-    }
-    if (costing == Costing::WithErrors) {
-      r.cost = 0.5 * cost_and_absolute_errors(model, r.values, data.samples, options.metric, channels, loss.get(),
-                                              threads, best_errors);
-      errors_at = r.values;
-    } else if (costing == Costing::WithMetrics && costs_from_metrics) {
-      metrics = evaluate_metrics(model, r.values, data);
-      r.cost = 0.5 * std::pow(metrics->get(options.metric), 2) * metric_weight_sum(data.samples, options.metric);
-      metrics_at = r.values;
-    } else if (costing != Costing::Known) {  // Alone, or a linear solve that gave no cost
-      double best_kept = HUGE_VAL;
-      for (const Refinement& c : candidates) best_kept = std::min(best_kept, c.cost);
-      r.cost = full_cost(r.values, best_kept);
-    }
-    if (std::isfinite(r.cost)) candidates.push_back(std::move(r));
-  };
   for (const NestedStart& nested : nested_starts) {
     Refinement r;
     r.values = nested.values;
@@ -262,7 +388,7 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
     r.termination = "the optimum of a contained model";
     r.free_index = on_all.free_values();
     r.cost = nested.cost;
-    keep(std::move(r), std::isfinite(nested.cost) ? Costing::Known : Costing::Alone);
+    candidates.keep(std::move(r), std::isfinite(nested.cost) ? Costing::Known : Costing::Alone);
   }
   clock.lap("nested starts");
 
@@ -270,49 +396,8 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
   std::vector<Refinement> later_starts;  // continued starts costed after the importance subsets
   if (!options.single_start) {
     const LeastSquares on_subsample(model, small, options.metric, channels, loss.get(), options);
-    // Every start is screened with a few iterations, and only the best 2·options.starts
-    // continue. On the heavy models every start used to run its 50 iterations, most of their fit;
-    // on the MERL proxies the start that finishes best was the first after 8 iterations for sgd
-    // and among the six first elsewhere but twice, where one ranked lower finished 0.3 %
-    // (principled, red-fabric) and 0.08 % (openpbr, gold-metallic-paint) better (docs/performance.md).
-    constexpr int kScreenIterations = 8;
-    const int refine_iterations = small_is_all ? options.max_iterations : 50;
-    std::vector<Refinement> screened;
-    std::set<std::vector<double>> refined;
-    for (const Start& start : starts) {
-      // A search that found nothing better returns its grid point: the same refinement twice.
-      if (!refined.insert(start.values).second) continue;
-      Refinement r = on_subsample.run(start.values, std::min(kScreenIterations, refine_iterations));
-      fit.iterations += r.iterations;
-      if (r.usable) screened.push_back(std::move(r));
-    }
-    clock.lap("screen");
-    std::sort(screened.begin(), screened.end(),
-              [](const Refinement& a, const Refinement& b) { return a.cost < b.cost; });
-    screened.resize(std::min(screened.size(), 2 * static_cast<size_t>(std::max(1, options.starts))));
-    // A continued start stops at a relative cost change of 1e-6, as the subset stages do: below
-    // it, a start in its basin crawled on to its 50 iterations for changes no metric shows.
-    for (Refinement& r : screened)
-      if (r.iterations >= kScreenIterations) {  // stopped by the screen, not converged
-        Refinement more = on_subsample.run(r.values, refine_iterations - r.iterations, 1e-6, r.trust_region_radius, &r);
-        fit.iterations += more.iterations;
-        if (more.usable) r = std::move(more);
-      }
-    std::stable_sort(screened.begin(), screened.end(),
-                     [](const Refinement& a, const Refinement& b) { return a.cost < b.cost; });
-    // The best walks on, to kBestStartIterations in all: a step here costs a tenth of one on the
-    // importance subset, whose walk from here is capped (kSubsetWalkIterations). Both measured
-    // together on the nine shared tables, all 36 models: sgd better on seven (acrylic_felt_green
-    // 21 %) and 7-43 % faster on eight, openpbr+coat+fuzz on blue-acrylic 30 % better, four errors
-    // worse by at most 0.03 %; 7 % less CPU in all (docs/performance.md, fourteenth round).
-    if (!screened.empty() && !small_is_all) {
-      Refinement& first = screened.front();
-      Refinement more = on_subsample.run(first.values, kBestStartIterations - refine_iterations, 1e-6,
-                                         first.trust_region_radius, &first);
-      fit.iterations += more.iterations;
-      if (more.usable && more.cost <= first.cost) first = std::move(more);
-    }
-    clock.lap("continue");
+    const std::vector<Refinement> screened =
+        screen_and_continue(on_subsample, starts, small_is_all, options, fit.iterations, clock);
     // Every continued start's refinement is a candidate: the best on the subsample is not always
     // the best on all samples (a many-parameter model can fit the subsample's few grazing samples
     // in a way all samples do not confirm). The best is costed first: its errors on all samples
@@ -327,7 +412,7 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
       if (i > 0 && draws_subsets)
         later_starts.push_back(r);
       else
-        keep(r, i == 0 && draws_subsets ? Costing::WithErrors : Costing::Alone);
+        candidates.keep(r, i == 0 && draws_subsets ? Costing::WithErrors : Costing::Alone);
     }
     if (!screened.empty()) best = screened.front();
     clock.lap("candidate costs");
@@ -345,11 +430,8 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
   Refinement subset_optimum;  // the last walk on the largest subset, its cost on that subset
   if (!options.single_start)
     for (size_t draws = small.size() * 10; draws < data.size(); draws *= 10) {
-      std::vector<Sample> subset = importance_subset(
-          data.samples, draws, options.seed,
-          errors_at == best.values ? std::move(best_errors)
-                                   : absolute_errors(model, best.values, data.samples, channels, threads));
-      errors_at.clear();
+      std::vector<Sample> subset =
+          importance_subset(data.samples, draws, options.seed, candidates.absolute_errors_at(best.values));
       clock.lap("subset draws");
       const LeastSquares on_subset(model, subset, options.metric, channels, loss.get(), options);
       Refinement r = on_subset.run(best.values, walk_iterations, 1e-6, 0.0, best.usable ? &best : nullptr);
@@ -361,7 +443,7 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
         // A larger subset follows (a table whose subsample hit few distinct samples): it is drawn
         // from this optimum's errors, which its cost on all samples gives in the same pass.
         const bool another_subset = draws * 10 < data.size();
-        keep(std::move(r), another_subset ? Costing::WithErrors : Costing::WithLinearSolve);
+        candidates.keep(std::move(r), another_subset ? Costing::WithErrors : Costing::WithLinearSolve);
       }
       clock.lap("candidate costs");
       largest_draws = draws;
@@ -373,22 +455,19 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
   // start's errors, and its weights make its cost an unbiased estimate; a start that could still
   // be chosen ends near the best, and so errs where the best does, where the subset is dense.
   for (const Refinement& r : later_starts) {
-    double best_known = HUGE_VAL;
-    for (const Refinement& c : candidates) best_known = std::min(best_known, c.cost);
     const double estimate = 0.5 * cost_of(model, r.values, largest_subset, options.metric, channels, loss.get());
-    if (estimate <= (1.0 + kLaterStartMargin) * best_known) keep(r);
+    if (estimate <= (1.0 + kLaterStartMargin) * candidates.best_cost()) candidates.keep(r);
   }
   if (!later_starts.empty()) clock.lap("candidate costs");
   bool polish = !options.single_start && largest_draws >= options.polish_after;
   // The subset stages start from the small subsample's best, which on all samples can be worse
   // than another continued start or a contained model's optimum (the OpenPBR layers'). That
-  // candidate is walked on the largest
-  // subset too, so that all samples only polish, as for the rest, instead of walking the whole
-  // valley at ten times the cost per step (openpbr+coat on gold-metallic-paint: 31 steps, 6.9 s).
+  // candidate is walked on the largest subset too, so that all samples only polish, as for the
+  // rest, instead of walking the whole valley at ten times the cost per step (openpbr+coat on
+  // gold-metallic-paint: 31 steps, 6.9 s).
   std::vector<double> walked_on_subset;  // that candidate's values
   if (polish && !candidates.empty()) {
-    const Refinement& on_all_best = *std::min_element(
-        candidates.begin(), candidates.end(), [](const Refinement& a, const Refinement& b) { return a.cost < b.cost; });
+    const Refinement on_all_best = *candidates.cheapest();
     if (on_all_best.values != best.values) {
       walked_on_subset = on_all_best.values;
       const LeastSquares on_subset(model, largest_subset, options.metric, channels, loss.get(), options);
@@ -398,7 +477,7 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
       subset_optimum = r;
       if (r.usable) {
         best = r;
-        keep(std::move(r), Costing::WithLinearSolve);
+        candidates.keep(std::move(r), Costing::WithLinearSolve);
       }
       clock.lap("candidate costs");
     }
@@ -407,9 +486,7 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
     // From the best candidate so far on all samples: to a relative cost change of 1e-6, far
     // below any metric's reported precision, or only a few polishing steps after a large
     // subset whose optimum is also the best candidate on all samples (FitOptions).
-    Refinement* from = nullptr;
-    for (Refinement& c : candidates)
-      if (!from || c.cost < from->cost) from = &c;
+    Refinement* from = candidates.cheapest();
     const std::vector<double> start = options.single_start ? initial : from ? from->values : best.values;
     // A contained model's optimum that stays the best on all samples after its walk on the subset
     // is polished too, not walked again on all samples (openpbr+coat+fuzz on a baked
@@ -431,30 +508,16 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
         r.termination =
             fmt::format("polished: {} steps on all samples after converging on an importance subset of {} draws",
                         r.iterations, largest_draws);
-      keep(r, Costing::Known);
+      candidates.keep(r, Costing::Known);
       if (!r.usable && candidates.empty()) best = std::move(r);  // reported as the failure it is
     }
   } else {
-    keep(best, Costing::Known);  // the subsample is all samples
+    candidates.keep(best, Costing::Known);  // the subsample is all samples
   }
-  const auto cheapest = [&] {
-    return *std::min_element(candidates.begin(), candidates.end(),
-                             [](const Refinement& a, const Refinement& b) { return a.cost < b.cost; });
-  };
   if (!candidates.empty()) {
-    // The linear parameters solved exactly on all samples for the best shape: the stopping rule
-    // (a relative cost change of 1e-6) leaves them wherever the cost is flat enough, which under
-    // a bright peak can be a diffuse albedo a percent off its least-squares value.
-    Refinement exact = cheapest();
-    const auto known =
-        std::find_if(solved.begin(), solved.end(), [&](const auto& s) { return s.first == exact.values; });
-    if (known != solved.end())
-      exact.values = known->second;
-    else
-      solve_linear(model, exact.values, data.samples, options.metric, channels);
-    keep(std::move(exact), Costing::WithMetrics);
-    best = cheapest();
-    if (metrics && metrics_at == best.values) fit.metrics = std::move(metrics);
+    candidates.keep_cheapest_with_exact_linear_values();
+    best = *candidates.cheapest();
+    fit.metrics = candidates.take_metrics_at(best.values);
   }
   clock.lap("candidate costs");
   // JᵀJ at the optimum: over all samples, or estimated from the large importance subset (its
