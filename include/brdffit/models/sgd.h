@@ -108,24 +108,24 @@ struct SgdLobe : Lobe {
             RecoveryFacts::TradeOff{/*max_relative_error=*/0.03, /*max_error_over_truth=*/5.0}};
   }
 
-  // G1 of one channel for a direction at polar angle theta (clamped and capped: see above).
+  // G1 for a direction at polar angle theta, of one channel's shadowing values (clamped and
+  // capped: see above).
   template <class T>
-  static T shadowing(const T* p, int c, double theta) {
+  static T shadowing(const T& lambda, const T& c, const T& k, const T& theta0, double theta) {
     using std::exp;
     using std::log;
-    const T& theta0 = p[kTheta0 + c];
     if (!(T(theta) > theta0)) return T(1.0);
     // (θ−θ0)^k in log space: published k reach 856. Where it alone passes e^700, c(θ−θ0)^k is
     // far above the cap for any c in the bounds; otherwise c·(θ−θ0)^k stays finite (published c
     // reach 1e109 where (θ−θ0)^k is tiny) and c = 0 keeps finite derivatives.
-    const T log_power = p[kKExponent + c] * log(theta - theta0);
+    const T log_power = k * log(theta - theta0);
     const T capped = T(std::exp(kMaxShadowingExponent));
     T grow = capped;
     if (log_power < T(700.0)) {
-      const T exponent = p[kC + c] * exp(log_power);
+      const T exponent = c * exp(log_power);
       if (exponent < T(kMaxShadowingExponent)) grow = exp(exponent);
     }
-    const T g1 = 1.0 + p[kLambda + c] * (1.0 - grow);
+    const T g1 = 1.0 + lambda * (1.0 - grow);
     return g1 > T(0.0) ? g1 : T(0.0);
   }
 
@@ -134,19 +134,36 @@ struct SgdLobe : Lobe {
     double nl, nv, cos2, tan2, lh, theta_l, theta_v, schlick;
   };
 
-  // Channel c's lobe per unit of specular: D·G·F/(π n·l n·v).
+  // Channel c's lobe per unit of specular: D·G·F/(π n·l n·v). Each factor runs on Jets of its
+  // own parameters' derivatives (math.h's of_parameters): D of α, p and K, the shadowing of Λ, c,
+  // k and θ0, F of f0 and f1; a Jet of every parameter did eleven derivatives' work in each step.
   template <class T>
   static T lobe_per_specular(const T* p, int c, const Geometry& g) {
-    using std::exp;
-    using std::log;
-    const T t = p[kAlpha + c] + g.tan2 / p[kAlpha + c];
-    const T p_log_t = p[kP + c] * log(t);  // log of t^p
-    if (!(p_log_t > T(kLogEpsilon))) return T(0.0);
-    // exp(−t)/t^p as one exp: a third of the lobe's transcendental calls, the fit's hot spot.
-    const T d = p[kK + c] * exp(-t - p_log_t) / (kPi * g.cos2 * g.cos2);
-    const T shadowed = shadowing(p, c, g.theta_l) * shadowing(p, c, g.theta_v);
-    T fresnel = p[kF0 + c] + (1.0 - p[kF0 + c]) * g.schlick - p[kF1 + c] * g.lh;
-    if (!(fresnel > T(0.0))) fresnel = T(0.0);
+    const T d = of_parameters(
+        [&g](const auto& alpha, const auto& shape, const auto& normalisation) {
+          using R = std::decay_t<decltype(alpha)>;
+          using std::exp;
+          using std::log;
+          const R t = alpha + g.tan2 / alpha;
+          const R p_log_t = shape * log(t);  // log of t^p
+          if (!(p_log_t > R(kLogEpsilon))) return R(0.0);
+          // exp(−t)/t^p as one exp: a third of the lobe's transcendental calls, the fit's hot spot.
+          return R(normalisation * exp(-t - p_log_t) / (kPi * g.cos2 * g.cos2));
+        },
+        p[kAlpha + c], p[kP + c], p[kK + c]);
+    if (value_of(d) == 0.0) return T(0.0);  // t^p under machine ε: nothing else to compute
+    const T shadowed = of_parameters(
+        [&g](const auto& lambda, const auto& rate, const auto& k, const auto& theta0) {
+          return shadowing(lambda, rate, k, theta0, g.theta_l) * shadowing(lambda, rate, k, theta0, g.theta_v);
+        },
+        p[kLambda + c], p[kC + c], p[kKExponent + c], p[kTheta0 + c]);
+    const T fresnel = of_parameters(
+        [&g](const auto& f0, const auto& f1) {
+          using R = std::decay_t<decltype(f0)>;
+          const R f = f0 + (1.0 - f0) * g.schlick - f1 * g.lh;
+          return f > R(0.0) ? f : R(0.0);
+        },
+        p[kF0 + c], p[kF1 + c]);
     return d * shadowed * fresnel / (kPi * g.nl * g.nv);
   }
 
