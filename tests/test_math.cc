@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cmath>
+#include <thread>
 #include <type_traits>
 
 #include "brdffit/math.h"
@@ -75,6 +76,53 @@ TEST(OfParameters, CarriesEachOfSeveralValuesThroughTheChainRule) {
   const auto [plain_ratio, plain_product] = of_parameters(ratio_and_product, 0.7, 1.3);
   EXPECT_DOUBLE_EQ(plain_ratio, 0.7 / 1.3);
   EXPECT_DOUBLE_EQ(plain_product, 0.7 * 1.3);
+}
+
+// A term of the parameters alone is computed once for as long as its keys stay the same, to the
+// bit and derivatives included, and again as soon as one changes.
+TEST(OncePerParameters, ComputesAgainOnlyWhenAKeyChanges) {
+  int computed = 0;
+  const auto scaled = [&computed](double a, double b) {
+    ++computed;
+    return std::array<double, 2>{a * b, a + b};
+  };
+  auto read = [&](double a, double b) { return once_per_parameters(scaled, a, b); };
+  EXPECT_EQ(read(0.3, 1.7)[0], 0.3 * 1.7);
+  EXPECT_EQ(read(0.3, 1.7)[1], 0.3 + 1.7);
+  EXPECT_EQ(computed, 1);
+  EXPECT_EQ(read(0.3, 1.8)[0], 0.3 * 1.8);  // the second key changed
+  EXPECT_EQ(computed, 2);
+  EXPECT_EQ(read(0.0, 1.8)[1], 1.8);
+  EXPECT_EQ(read(-0.0, 1.8)[1], 1.8);  // -0.0 == 0.0, but 1/x tells them apart: computed again
+  EXPECT_EQ(computed, 4);
+
+  // Jets: the same value with other derivatives is another key.
+  int jets_computed = 0;
+  const auto square = [&jets_computed](const Jet5& x) {
+    ++jets_computed;
+    return Jet5(x * x);
+  };
+  Jet5 x(0.7, 1), y(0.7, 3);
+  EXPECT_EQ(once_per_parameters(square, x).v[1], 1.4);
+  EXPECT_EQ(once_per_parameters(square, x).v[1], 1.4);
+  EXPECT_EQ(jets_computed, 1);
+  EXPECT_EQ(once_per_parameters(square, y).v[3], 1.4);
+  EXPECT_EQ(once_per_parameters(square, y).v[1], 0.0);
+  EXPECT_EQ(jets_computed, 2);
+}
+
+// Each thread keeps its own: a pass on another thread at other parameters does not change what
+// this one reads.
+TEST(OncePerParameters, KeepsOneTermPerThread) {
+  const auto doubled = [](double a) { return 2.0 * a; };
+  auto read = [&](double a) -> const double& { return once_per_parameters(doubled, a); };
+  const double* here = &read(1.5);
+  double there = 0.0;
+  std::thread other([&] { there = read(4.0); });
+  other.join();
+  EXPECT_EQ(there, 8.0);
+  EXPECT_EQ(*here, 3.0);
+  EXPECT_EQ(&read(1.5), here);
 }
 
 }  // namespace

@@ -8,6 +8,8 @@
 #include <Eigen/Core>
 #include <array>
 #include <cmath>
+#include <cstring>
+#include <optional>
 #include <type_traits>
 #include <utility>
 
@@ -82,6 +84,42 @@ T of_one_parameter(const T& x, F&& f) {
 template <class T, class F>
 T of_two_parameters(const T& x, const T& y, F&& f) {
   return of_parameters(f, x, y);
+}
+
+// Whether a and b are the same number with the same derivatives, to the bit (ceres::Jet's ==
+// compares the numbers only, and 0.0 == -0.0).
+inline bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+template <class J>
+bool same_bits(const J& a, const J& b) {
+  if (!same_bits(a.a, b.a)) return false;
+  for (int i = 0; i < a.v.size(); ++i)
+    if (!same_bits(a.v[i], b.v[i])) return false;
+  return true;
+}
+
+// compute(key…) for a term of the parameters alone (a table's row at a roughness, a lobe's
+// normalisation) that a model would otherwise compute again for every sample of a pass over the
+// samples, all at the same parameters. Kept per thread and per call site (each `compute` lambda
+// is a type of its own), for the keys it was last computed for; the keys compare to the bit, so
+// what comes back is what computing would give. `compute` must depend on nothing but its keys;
+// the reference holds until the same call site is next reached on this thread.
+template <class F, class K, class... More>
+const auto& once_per_parameters(F&& compute, const K& key, const More&... more) {
+  static_assert((std::is_same_v<K, More> && ...), "keys of one type");
+  using Value = std::decay_t<decltype(compute(key, more...))>;
+  struct Memo {
+    std::array<K, 1 + sizeof...(More)> keys;
+    std::optional<Value> value;
+  };
+  thread_local Memo memo;
+  const std::array<K, 1 + sizeof...(More)> keys{key, more...};
+  bool hit = memo.value.has_value();
+  for (size_t i = 0; hit && i < keys.size(); ++i) hit = same_bits(memo.keys[i], keys[i]);
+  if (!hit) {
+    memo.value.emplace(compute(key, more...));
+    memo.keys = keys;
+  }
+  return *memo.value;
 }
 
 template <class T>

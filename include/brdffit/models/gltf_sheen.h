@@ -49,20 +49,14 @@
 
 namespace brdffit::models {
 
-// The Charlie distribution D_S of the spec for sheenRoughness s (α = s²) at n·h.
+// The Charlie sheen of the spec at one sheenRoughness r (α = r²): its distribution D_S and the
+// Λ of its visibility, with what depends on r alone (1/α, Λ's coefficients, each a mix in α, and
+// 2 L(0.5)) computed once.
 template <class T>
-T sheen_charlie_d(const T& sheen_roughness, double nh) {
-  const T inv_alpha = 1.0 / (sheen_roughness * sheen_roughness);
-  return (2.0 + inv_alpha) * pow_of_direction_term(1.0 - nh * nh, 0.5 * inv_alpha) / (2.0 * kPi);
-}
-
-// The spec's Λ of the Charlie visibility at cosines μ in (0, 1] for one α = sheenRoughness²: its
-// coefficients (each a mix in α) and 2 L(0.5) (a power, computed when a μ ≥ 0.5 first asks) are
-// shared by a sample's two directions.
-template <class T>
-class SheenCharlieLambda {
+class SheenCharlie {
  public:
-  explicit SheenCharlieLambda(const T& alpha) {
+  explicit SheenCharlie(const T& sheen_roughness) : inv_alpha_(1.0 / (sheen_roughness * sheen_roughness)) {
+    const T alpha = sheen_roughness * sheen_roughness;
     const T t = (1.0 - alpha) * (1.0 - alpha);
     const auto mix = [&t](double x, double y) { return x + (y - x) * t; };
     a_ = mix(21.5473, 25.3245);
@@ -70,39 +64,34 @@ class SheenCharlieLambda {
     c_ = mix(0.19823, 0.16801);
     d_ = mix(-1.97760, -1.27393);
     e_ = mix(-4.32054, -4.85967);
+    twice_at_half_ = 2.0 * l(0.5);
   }
-  T operator()(double mu) const {
+
+  // D_S at n·h.
+  T d(double nh) const {
+    return (2.0 + inv_alpha_) * pow_of_direction_term(1.0 - nh * nh, 0.5 * inv_alpha_) / (2.0 * kPi);
+  }
+  // Λ at a cosine μ in (0, 1].
+  T lambda(double mu) const {
     using std::exp;
-    if (mu < 0.5) return exp(l(mu));
-    if (!has_twice_at_half_) {
-      twice_at_half_ = 2.0 * l(0.5);
-      has_twice_at_half_ = true;
-    }
-    return exp(twice_at_half_ - l(1.0 - mu));
+    return mu < 0.5 ? T(exp(l(mu))) : T(exp(twice_at_half_ - l(1.0 - mu)));
   }
 
  private:
   T l(double x) const { return a_ / (1.0 + b_ * pow_of_direction_term(x, c_)) + d_ * x + e_; }
-  T a_, b_, c_, d_, e_;
-  mutable T twice_at_half_;
-  mutable bool has_twice_at_half_ = false;
+  T inv_alpha_, a_, b_, c_, d_, e_, twice_at_half_;
 };
 
-// Λ at one cosine.
-template <class T>
-T sheen_charlie_lambda(double mu, const T& alpha) {
-  return SheenCharlieLambda<T>(alpha)(mu);
-}
-
-// D_S·V_S for l and v above the surface (sheenColor 1).
+// D_S·V_S for l and v above the surface (sheenColor 1). A pass over the samples is at one
+// sheenRoughness: SheenCharlie is built once for it (math.h's once_per_parameters).
 template <class T>
 T sheen_charlie_dv(const T& sheen_roughness, const Vec3& l, const Vec3& v) {
   const double nl = l.z(), nv = v.z(), nh = half_vector(l, v).z();
   return of_one_parameter(sheen_roughness, [&](const auto& r) {
     using R = std::decay_t<decltype(r)>;
-    const SheenCharlieLambda<R> lambda(r * r);
-    const R visibility = 1.0 / ((1.0 + lambda(nv) + lambda(nl)) * (4.0 * nv * nl));
-    return R(sheen_charlie_d(r, nh) * visibility);
+    const SheenCharlie<R>& sheen = once_per_parameters([](const R& r) { return SheenCharlie<R>(r); }, r);
+    const R visibility = 1.0 / ((1.0 + sheen.lambda(nv) + sheen.lambda(nl)) * (4.0 * nv * nl));
+    return R(sheen.d(nh) * visibility);
   });
 }
 
@@ -123,33 +112,34 @@ class SheenAlbedo {
     std::vector<double> u, w;
     gauss_legendre(nodes, u, w);
     const Vec3 v(std::sqrt(1.0 - mu * mu), 0.0, mu);
-    const double alpha = sheen_roughness * sheen_roughness, lambda_v = sheen_charlie_lambda(mu, alpha);
+    const SheenCharlie<double> sheen(sheen_roughness);
+    const double lambda_v = sheen.lambda(mu);
     double sum = 0.0;
     for (int i = 0; i < nodes; ++i) {
       const double nl = u[i] * u[i], sin_l = std::sqrt(1.0 - nl * nl);
       // D_S·V_S·(n·l) = D_S / ((1 + Λ(n·v) + Λ(n·l)) · 4 n·v): Λ(n·l) once per ring.
-      const double ring_factor = 1.0 / ((1.0 + lambda_v + sheen_charlie_lambda(nl, alpha)) * 4.0 * mu);
+      const double ring_factor = 1.0 / ((1.0 + lambda_v + sheen.lambda(nl)) * 4.0 * mu);
       double ring = 0.0;
       for (int j = 0; j < nodes; ++j) {
         const double phi = kPi * (j + 0.5) / nodes;
         const Vec3 l(sin_l * std::cos(phi), sin_l * std::sin(phi), nl);
-        ring += sheen_charlie_d(sheen_roughness, half_vector(l, v).z());
+        ring += sheen.d(half_vector(l, v).z());
       }
       sum += w[i] * 2.0 * u[i] * ring * ring_factor * (2.0 * kPi / nodes);
     }
     return sum;
   }
 
-  // E at μ (clamped to [kMinMu, 1]) and a sheenRoughness in [kMinRoughness, 1], at most 1.
+  // E at μ (clamped to [kMinMu, 1]) and a sheenRoughness in [kMinRoughness, 1], at most 1. The
+  // table is blended in sheenRoughness first, into one row per pass over the samples (math.h's
+  // once_per_parameters), then read at μ: the same bicubic surface as blending μ first.
   template <class T>
   T operator()(double mu, const T& sheen_roughness) const {
     const double x = std::clamp((std::sqrt(std::clamp(mu, kMinMu, 1.0)) - kMinT) / kStepT, 0.0, kMuNodes - 1.0);
     const int i = std::min(static_cast<int>(x), kMuNodes - 2);
-    const T y = (sheen_roughness - kMinRoughness) / kStepRoughness;
-    const int j = std::clamp(static_cast<int>(std::floor(value_of(y))), 0, kRoughnessNodes - 2);
-    std::array<double, 4> column;
-    for (int k = 0; k < 4; ++k) column[k] = catmull_rom(&nodes_[j + k][i], x - i);  // rows j-1 .. j+2
-    const T e = catmull_rom(column.data(), T(y - double(j)));
+    // Keyed on the roughness alone: this is the one table (table()).
+    const auto& row = once_per_parameters([this](const T& r) { return row_at(r); }, sheen_roughness);
+    const T e = catmull_rom(&row[i], x - i);
     return e > T(1.0) ? T(1.0) : (e < T(0.0) ? T(0.0) : e);
   }
 
@@ -174,9 +164,23 @@ class SheenAlbedo {
     }
   }
 
-  // Catmull-Rom through p[0..3] between p[1] and p[2], at fraction t.
+  // The table's row at a sheenRoughness: nodes_[·][i] blended in sheenRoughness, for every μ node i.
   template <class T>
-  static T catmull_rom(const double* p, const T& t) {
+  std::array<T, kMuNodes + 2> row_at(const T& sheen_roughness) const {
+    const T y = (sheen_roughness - kMinRoughness) / kStepRoughness;
+    const int j = std::clamp(static_cast<int>(std::floor(value_of(y))), 0, kRoughnessNodes - 2);
+    std::array<T, kMuNodes + 2> row;
+    for (int i = 0; i < kMuNodes + 2; ++i) {
+      const std::array<double, 4> column = {nodes_[j][i], nodes_[j + 1][i], nodes_[j + 2][i], nodes_[j + 3][i]};
+      row[i] = catmull_rom(column.data(), T(y - double(j)));  // rows j-1 .. j+2
+    }
+    return row;
+  }
+
+  // Catmull-Rom through p[0..3] between p[1] and p[2], at fraction t (node values P and fraction
+  // T each a double or a Jet).
+  template <class P, class T>
+  static auto catmull_rom(const P* p, const T& t) {
     return p[1] + 0.5 * t *
                       (p[2] - p[0] +
                        t * (2.0 * p[0] - 5.0 * p[1] + 4.0 * p[2] - p[3] + t * (3.0 * (p[1] - p[2]) + p[3] - p[0])));

@@ -128,47 +128,40 @@ int grid_cell(const T& x, T& fraction) {
   return cell;
 }
 
-// The table at one (r, η): the cell and its bilinear weights are found once (they carry r's and
-// η's derivatives), then E is read at any cosine and Ē, each a blend of two μ rows in doubles. Three
-// reads per evaluation (E(n·l), E(n·v), Ē) used to find the cell and form the 8 weights each
-// time: that lookup was a sixth of the layered OpenPBR models' fits.
+// The table at one (r, η): its four corners blended into one row of E over μ and Ē, once (the
+// row carries r's and η's derivatives), then E is read at any cosine by linear interpolation in
+// μ: the same trilinear interpolation as blending μ first. A pass over the samples is at one
+// (r, η), so OpenPbr::brdf builds this once per pass (math.h's once_per_parameters); finding the
+// cell and blending the corners at every read was a sixth of the layered OpenPBR models' fits.
 template <class T>
 class DielectricAlbedoAt {
  public:
   DielectricAlbedoAt(const T& roughness, const T& eta) {
     T fr, fe;
-    r_ = grid_cell(roughness, fr);
-    e_ = grid_cell(
+    const int r = grid_cell(roughness, fr);
+    const int e = grid_cell(
         T((eta - DielectricAlbedoTable::kEtaMin) / (DielectricAlbedoTable::kEtaMax - DielectricAlbedoTable::kEtaMin)),
         fe);
     const T gr = 1.0 - fr, ge = 1.0 - fe;
-    weight_ = {gr * ge, gr * fe, fr * ge, fr * fe};
+    const std::array<T, 4> weight = {gr * ge, gr * fe, fr * ge, fr * fe};  // (r, e), (r, e + 1), (r + 1, e), …
+    const DielectricAlbedoTable& table = DielectricAlbedoTable::get();
+    for (int m = 0; m <= DielectricAlbedoTable::kAverageRow; ++m) {
+      row_[m] = T(0.0);
+      for (int k = 0; k < 4; ++k) row_[m] += weight[k] * table.at(m, r + (k >> 1), e + (k & 1));
+    }
   }
 
-  // E(μ): trilinear, the μ rows blended first.
+  // E(μ).
   T operator()(double mu) const {
     double mu_fraction = 0.0;
-    const int row = grid_cell(mu, mu_fraction);
-    return blend(row, mu_fraction);
+    const int m = grid_cell(mu, mu_fraction);
+    return mu_fraction > 0.0 ? T(row_[m] + mu_fraction * (row_[m + 1] - row_[m])) : row_[m];
   }
   // Ē, the average row.
-  T average() const { return blend(DielectricAlbedoTable::kAverageRow, 0.0); }
+  const T& average() const { return row_[DielectricAlbedoTable::kAverageRow]; }
 
  private:
-  T blend(int row, double mu_fraction) const {
-    const DielectricAlbedoTable& table = DielectricAlbedoTable::get();
-    T result(0.0);
-    for (int k = 0; k < 4; ++k) {
-      const int r = r_ + (k >> 1), e = e_ + (k & 1);
-      double value = table.at(row, r, e);
-      if (mu_fraction > 0.0) value += mu_fraction * (table.at(row + 1, r, e) - value);
-      result += weight_[k] * value;
-    }
-    return result;
-  }
-
-  int r_ = 0, e_ = 0;
-  std::array<T, 4> weight_;  // corners (r, e), (r, e + 1), (r + 1, e), (r + 1, e + 1)
+  std::array<T, DielectricAlbedoTable::kAverageRow + 1> row_;
 };
 
 struct OpenPbr {
@@ -232,7 +225,8 @@ struct OpenPbr {
     // Reciprocal albedo scaling of the diffuse base (Kelemen form, see the head of the file).
     const T diffuse_through = of_two_parameters(r, eta, [&](const auto& r, const auto& e) {
       using R = std::decay_t<decltype(r)>;
-      const DielectricAlbedoAt<R> albedo(r, e);
+      const DielectricAlbedoAt<R>& albedo =
+          once_per_parameters([](const R& r, const R& e) { return DielectricAlbedoAt<R>(r, e); }, r, e);
       return R((1.0 - albedo(nl)) * (1.0 - albedo(nv)) / (1.0 - albedo.average()));
     });
 
