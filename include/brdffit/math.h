@@ -8,8 +8,10 @@
 #include <Eigen/Core>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <optional>
+#include <tuple>
 #include <type_traits>
 #include <utility>
 
@@ -88,7 +90,12 @@ T of_two_parameters(const T& x, const T& y, F&& f) {
 
 // Whether a and b are the same number with the same derivatives, to the bit (ceres::Jet's ==
 // compares the numbers only, and 0.0 == -0.0).
-inline bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+inline bool same_bits(double a, double b) {
+  std::uint64_t bits_a, bits_b;  // memcpy, not memcmp: GCC inlines the one, calls libc for the other
+  std::memcpy(&bits_a, &a, sizeof a);
+  std::memcpy(&bits_b, &b, sizeof b);
+  return bits_a == bits_b;
+}
 template <class J>
 bool same_bits(const J& a, const J& b) {
   if (!same_bits(a.a, b.a)) return false;
@@ -97,29 +104,34 @@ bool same_bits(const J& a, const J& b) {
   return true;
 }
 
-// compute(key…) for a term of the parameters alone (a table's row at a roughness, a lobe's
+// compute(keys) for a term of the parameters alone (a table's row at a roughness, a lobe's
 // normalisation) that a model would otherwise compute again for every sample of a pass over the
 // samples, all at the same parameters. Kept per thread and per call site (each `compute` lambda
 // is a type of its own), for the keys it was last computed for; the keys compare to the bit, so
 // what comes back is what computing would give. `compute` must depend on nothing but its keys;
 // the reference holds until the same call site is next reached on this thread.
-template <class F, class K, class... More>
-const auto& once_per_parameters(F&& compute, const K& key, const More&... more) {
-  static_assert((std::is_same_v<K, More> && ...), "keys of one type");
-  using Value = std::decay_t<decltype(compute(key, more...))>;
+template <class F, class K, size_t N>
+const auto& once_per_parameters(F&& compute, const std::array<K, N>& keys) {
+  using Value = std::decay_t<decltype(compute(keys))>;
   struct Memo {
-    std::array<K, 1 + sizeof...(More)> keys;
+    std::array<K, N> keys;
     std::optional<Value> value;
   };
   thread_local Memo memo;
-  const std::array<K, 1 + sizeof...(More)> keys{key, more...};
   bool hit = memo.value.has_value();
-  for (size_t i = 0; hit && i < keys.size(); ++i) hit = same_bits(memo.keys[i], keys[i]);
+  for (size_t i = 0; hit && i < N; ++i) hit = same_bits(memo.keys[i], keys[i]);
   if (!hit) {
-    memo.value.emplace(compute(key, more...));
+    memo.value.emplace(compute(keys));
     memo.keys = keys;
   }
   return *memo.value;
+}
+// compute(key, more…), the same for a few keys of one type.
+template <class F, class K, class... More>
+const auto& once_per_parameters(F&& compute, const K& key, const More&... more) {
+  static_assert((std::is_same_v<K, More> && ...), "keys of one type");
+  using Keys = std::array<K, 1 + sizeof...(More)>;
+  return once_per_parameters([&compute](const Keys& keys) { return std::apply(compute, keys); }, Keys{key, more...});
 }
 
 template <class T>
