@@ -15,6 +15,7 @@
 #include <ctime>
 #include <functional>
 #include <map>
+#include <numeric>
 #include <optional>
 #include <set>
 
@@ -450,13 +451,24 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
       largest_subset = std::move(subset);
     }
   // The other continued starts, after the walks on the importance subsets: a start is costed on
-  // all samples only where its cost estimated on the largest subset is within
-  // kLaterStartMargin of the best cost known on all samples. The subset is drawn from the best
-  // start's errors, and its weights make its cost an unbiased estimate; a start that could still
-  // be chosen ends near the best, and so errs where the best does, where the subset is dense.
+  // all samples only where the largest subset cannot tell it costlier than the best candidate.
+  // The subset is drawn from the best start's errors, and its weights make sums over it unbiased
+  // estimates of sums over all samples; a start that could still be chosen ends near the best,
+  // and so errs where the best does, where the subset is dense. First its own cost estimated
+  // there, within kLaterStartMargin of the best cost known on all samples; then its difference
+  // from the best, estimated draw by draw (later_start_surely_costlier).
+  std::vector<double> best_terms, best_terms_at;  // the cheapest candidate's terms on the subset
   for (const Refinement& r : later_starts) {
-    const double estimate = 0.5 * cost_of(model, r.values, largest_subset, options.metric, channels, loss.get());
-    if (estimate <= (1.0 + kLaterStartMargin) * candidates.best_cost()) candidates.keep(r);
+    const std::vector<double> terms =
+        cost_per_sample(model, r.values, largest_subset, options.metric, channels, loss.get(), threads);
+    const double estimate = 0.5 * std::accumulate(terms.begin(), terms.end(), 0.0);
+    if (estimate > (1.0 + kLaterStartMargin) * candidates.best_cost()) continue;
+    const Refinement& best = *candidates.cheapest();
+    if (best_terms_at != best.values) {
+      best_terms_at = best.values;
+      best_terms = cost_per_sample(model, best.values, largest_subset, options.metric, channels, loss.get(), threads);
+    }
+    if (!later_start_surely_costlier(terms, best_terms, best.cost, r.free_index.size())) candidates.keep(r);
   }
   if (!later_starts.empty()) clock.lap("candidate costs");
   bool polish = !options.single_start && largest_draws >= options.polish_after;

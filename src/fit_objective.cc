@@ -22,7 +22,7 @@ size_t bit_reversed(size_t order, size_t chunks) {
   return reversed;
 }
 
-// The one loop over a fit's residuals: calls visit(chunk, r) for every sample and fitted
+// The one loop over a fit's residuals: calls visit(chunk, i, r) for every sample i and fitted
 // channel with r = metric residual · √weight, over `chunks` (a power of two) ranges of the
 // samples in parallel, taken in bit-reversed order, and chunk_done(chunk) after each. A chunk
 // not started when give_up() holds is skipped. Each sample's shaded value is also shown to
@@ -44,7 +44,7 @@ void for_each_residual(
       seen(i, shade);
       const double sqrt_w = std::sqrt(metric_weight(metric, s.weight));
       for (int c = 0; c < 3; ++c)
-        if (channels[c]) visit(chunk, metric_residual(metric, shade[c], s.value[c]) * sqrt_w);
+        if (channels[c]) visit(chunk, i, metric_residual(metric, shade[c], s.value[c]) * sqrt_w);
     }
     chunk_done(chunk);
   });
@@ -73,7 +73,7 @@ double summed_cost(const Model& model, const std::vector<double>& values, const 
   auto passed = [&] { return done.load() > give_up_above; };
   for_each_residual(
       model, values, samples, metric, channels, chunks, chunks > 1 ? threads : 1,
-      [&](size_t chunk, double residual) {
+      [&](size_t chunk, size_t, double residual) {
         double r, scale;
         detail::robustify(loss, residual, r, scale);
         partial[chunk] += r * r;
@@ -97,6 +97,22 @@ double cost_of(const Model& model, const std::vector<double>& values, const std:
                      [](size_t, const Rgb<double>&) {});
 }
 
+std::vector<double> cost_per_sample(const Model& model, const std::vector<double>& values,
+                                    const std::vector<Sample>& samples, Metric metric, const Channels& channels,
+                                    const ceres::LossFunction* loss, int threads) {
+  std::vector<double> costs(samples.size(), 0.0);
+  const size_t chunks = samples.size() >= 50000 ? 64 : 1;
+  for_each_residual(
+      model, values, samples, metric, channels, chunks, chunks > 1 ? threads : 1,
+      [&](size_t, size_t sample, double residual) {
+        double r, scale;
+        detail::robustify(loss, residual, r, scale);
+        costs[sample] += r * r;
+      },
+      [](size_t) {}, [] { return false; });
+  return costs;
+}
+
 double cost_and_absolute_errors(const Model& model, const std::vector<double>& values,
                                 const std::vector<Sample>& samples, Metric metric, const Channels& channels,
                                 const ceres::LossFunction* loss, int threads, std::vector<double>& errors) {
@@ -111,7 +127,7 @@ double median_abs_residual(const Model& model, const std::vector<double>& values
   std::vector<double> abs_residuals;
   for_each_residual(
       model, values, samples, metric, channels, 1, 1,
-      [&](size_t, double residual) { abs_residuals.push_back(std::fabs(residual)); }, [](size_t) {},
+      [&](size_t, size_t, double residual) { abs_residuals.push_back(std::fabs(residual)); }, [](size_t) {},
       [] { return false; });
   if (abs_residuals.empty()) return 0.0;
   auto middle = abs_residuals.begin() + abs_residuals.size() / 2;

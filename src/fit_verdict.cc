@@ -53,6 +53,21 @@ bool same_cost(double a, double b) {
   return std::isfinite(a) && std::isfinite(b) && std::abs(a - b) <= 1e-6 * std::max(std::abs(a), std::abs(b));
 }
 
+constexpr double kLaterStartErrors = 4.0;
+bool later_start_surely_costlier(const std::vector<double>& terms, const std::vector<double>& best_terms,
+                                 double best_cost, size_t free_values) {
+  const size_t count = terms.size();
+  if (count < 2 || best_terms.size() != count) return false;
+  double difference = 0.0;
+  for (size_t i = 0; i < count; ++i) difference += terms[i] - best_terms[i];
+  const double mean = difference / static_cast<double>(count);
+  double squares = 0.0;
+  for (size_t i = 0; i < count; ++i) squares += std::pow(terms[i] - best_terms[i] - mean, 2);
+  const double standard_error = 0.5 * std::sqrt(squares * static_cast<double>(count) / static_cast<double>(count - 1));
+  const double optimism = 2.0 * static_cast<double>(free_values) / static_cast<double>(count) * best_cost;
+  return 0.5 * difference > kLaterStartErrors * standard_error + optimism;
+}
+
 void judge(const Model& model, const FitResult* baseline, double zero_error, Metric metric, bool isotropic_data,
            FitResult& r) {
   constexpr double kPoorRatio = 1.05, kPoorUnexplained = 0.85, kPoorTypical = 1.0, kPoorClampedUnexplained = 0.25;

@@ -12,6 +12,7 @@ namespace brdffit {
 namespace {
 
 using fitting::coordinate_search;
+using fitting::later_start_surely_costlier;
 using fitting::same_cost;
 using fitting::same_optimum;
 using fitting::solved_cost;
@@ -166,6 +167,36 @@ TEST(SameCost, WithinAMillionthOfTheLarger) {
   EXPECT_FALSE(same_cost(0.0214645, 0.0214645 * (1 + 1.1e-6)));
   EXPECT_FALSE(same_cost(0.0214645 * (1 - 1.1e-6), 0.0214645));
   EXPECT_FALSE(same_cost(0.0214645, HUGE_VAL));
+}
+
+// A continued start is left uncosted on all samples only where the subset's draws, paired with
+// the best's, put it more than four standard errors and the best's optimism above the best.
+// Hand values: draws whose differences alternate mean ± 0.1 have a standard error of
+// ½·0.1·√(n·n/(n−1)), against a difference of ½·n·mean.
+TEST(LaterStarts, SurelyCostlierOnlyPastFourStandardErrorsAndTheOptimism) {
+  auto alternating = [](size_t n, double mean, std::vector<double>& terms, std::vector<double>& best) {
+    terms.assign(n, 1.0);
+    best.assign(n, 1.0);
+    for (size_t i = 0; i < n; ++i) terms[i] += mean + (i % 2 ? -0.1 : 0.1);
+  };
+  std::vector<double> terms, best;
+  // n = 1600, mean 0.01: difference 8, standard error ½·0.1·√(1600·1600/1599) = 2.00063, 4 of
+  // them 8.0025: not surely costlier. n = 3600: difference 18 against 12.0017.
+  alternating(1600, 0.01, terms, best);
+  EXPECT_FALSE(later_start_surely_costlier(terms, best, 100.0, 0));
+  alternating(3600, 0.01, terms, best);
+  EXPECT_TRUE(later_start_surely_costlier(terms, best, 100.0, 0));
+  // The optimism: 2·(free values)/draws of the best's cost. Six values, a best costing 200:
+  // 2·6/3600·200 = 0.667 more, 12.67 < 18 still; a best costing 600 adds 2.0, 14.0 < 18; 1800, 6.0:
+  // 18.0017 > 18.
+  EXPECT_TRUE(later_start_surely_costlier(terms, best, 200.0, 6));
+  EXPECT_TRUE(later_start_surely_costlier(terms, best, 600.0, 6));
+  EXPECT_FALSE(later_start_surely_costlier(terms, best, 1800.0, 6));
+  // Cheaper on the draws, or the same: never surely costlier, nor with no draws to tell.
+  alternating(3600, -0.01, terms, best);
+  EXPECT_FALSE(later_start_surely_costlier(terms, best, 100.0, 0));
+  EXPECT_FALSE(later_start_surely_costlier(best, best, 100.0, 0));
+  EXPECT_FALSE(later_start_surely_costlier({}, {}, 100.0, 0));
 }
 
 }  // namespace

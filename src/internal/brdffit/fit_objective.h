@@ -29,6 +29,13 @@ double cost_of(const Model& model, const std::vector<double>& values, const std:
                const Channels& channels, const ceres::LossFunction* loss, int threads = 1,
                double give_up_above = HUGE_VAL);
 
+// cost_of's terms one per sample, its fitted channels summed (never given up). On an importance
+// subset, whose weights make sums over it estimates of sums over all samples, the spread of two
+// fits' differences term by term says how well the subset tells which of them costs less.
+std::vector<double> cost_per_sample(const Model& model, const std::vector<double>& values,
+                                    const std::vector<Sample>& samples, Metric metric, const Channels& channels,
+                                    const ceres::LossFunction* loss, int threads = 1);
+
 // The median of |metric residual · √weight| over samples and fitted channels: the robust loss's
 // automatic scale (σ ≈ 1.4826 × this for Gaussian noise).
 double median_abs_residual(const Model& model, const std::vector<double>& values, const std::vector<Sample>& samples,

@@ -225,6 +225,19 @@ bool same_optimum(const std::vector<ValueSlot>& slots, const std::vector<double>
 // candidate on all samples only once.
 bool same_cost(double a, double b);
 
+// Whether a continued start surely costs more than the best candidate on all samples, from their
+// terms on the same importance subset (cost_per_sample) and the best's cost on all samples: the
+// difference of their sums, ½Σ(candidate − best), above kLaterStartErrors (4) standard errors (the
+// terms' differences as independent draws) plus the optimism of a best walked on this subset (its
+// cost there is below its cost elsewhere by about 2·(free values)/draws of itself, as a least-squares
+// fit's in-sample residual is). Paired draw by draw, the two estimates' errors cancel where the
+// two fits err alike: on the nine shared tables (all 36 models, ggx+ggx, 199 continued starts within
+// kLaterStartMargin, docs/performance.md twentieth round) the paired estimate missed the difference on
+// all samples by −2.7 to +1.3 of its standard errors, and the five starts that beat the best were
+// estimated at most 0.12 standard errors above it.
+bool later_start_surely_costlier(const std::vector<double>& terms, const std::vector<double>& best_terms,
+                                 double best_cost, size_t free_values);
+
 // The verdict and the warning lines of a fitted result (see Verdict in fit.h). A fit is poor
 // when any of these holds:
 //   - its error in any judged metric (kJudgedMetrics: cosine, log, relative and l2, whichever was
