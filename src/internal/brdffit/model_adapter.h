@@ -94,12 +94,19 @@ class ModelAdapter final : public Model, public BatchCostSource {
   }
 
   // One evaluation with Jets whose derivatives are those by the linear parameters, exact since the
-  // value is affine in them: for sgd a third of the cost of evaluating three times.
+  // value is affine in them: for sgd a third of the cost of evaluating three times. The Jets are as
+  // wide as the model's linear values need (one linear parameter: half of the widest, whose unused
+  // derivatives a Jet would carry through every step; gltf+sheen's grids and linear solves).
   Rgb<double> shade_linear_parts(const double* values, const Vec3& l, const Vec3& v,
                                  Rgb<double>* basis) const override {
     if constexpr (ScaledLobeOverLambert<M>::value) return scaled_lobe_linear_parts(values, l, v, basis);
+    return linear_count_ <= 1 ? linear_parts_on_jets<1>(values, l, v, basis)
+                              : linear_parts_on_jets<kMaxLinearParameters>(values, l, v, basis);
+  }
+  template <int kLinearParameters>
+  Rgb<double> linear_parts_on_jets(const double* values, const Vec3& l, const Vec3& v, Rgb<double>* basis) const {
     constexpr bool kPerParameter = SeparateChannels<M>::value;
-    using Jet = ceres::Jet<double, kPerParameter ? kMaxLinearParameters : 3 * kMaxLinearParameters>;
+    using Jet = ceres::Jet<double, kPerParameter ? kLinearParameters : 3 * kLinearParameters>;
     // Written in place: a temporary Jet per value, its derivative stored 8 bytes at a time and
     // loaded 16 at a time, stalled the store forwarding of every linear value (a third of sgd's
     // coordinate search).
