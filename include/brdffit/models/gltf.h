@@ -48,18 +48,19 @@ T gltf_specular_vd(const T& roughness, const Vec3& l, const Vec3& v) {
 // (extensions/2.0/Khronos/KHR_materials_specular): per channel
 //   F_d = f0 + (f90 - f0)(1 - |v·h|)^5,   dielectric = F_d·V·D + (1 - max(F_d))·baseColor/π,
 // which is Appendix B's for f0 = 0.04 (grey) and f90 = 1. `specular` is the lobe's V·D:
-// gltf_specular_vd, or KHR_materials_anisotropy's (gltf_anisotropy.h).
-template <class T>
-Rgb<T> gltf_metallic_roughness(const T* base_color, const T& metallic, const T& specular, const Rgb<T>& dielectric_f0,
-                               const T& dielectric_f90, const Vec3& l, const Vec3& v) {
+// gltf_specular_vd, or KHR_materials_anisotropy's (gltf_anisotropy.h). F0 and F90 are doubles
+// where they are constants (Appendix B's): on Jets they would carry derivatives of zeros.
+template <class T, class F>
+Rgb<T> gltf_metallic_roughness(const T* base_color, const T& metallic, const T& specular, const Rgb<F>& dielectric_f0,
+                               const F& dielectric_f90, const Vec3& l, const Vec3& v) {
   const double nl = l.z(), nv = v.z();
   Rgb<T> f(T(0.0), T(0.0), T(0.0));
   if (nl <= 0.0 || nv <= 0.0) return f;
   const double vh = std::abs(v.dot(half_vector(l, v)));
   const double w = schlick_weight(vh);
-  Rgb<T> dielectric_fresnel;
+  Rgb<F> dielectric_fresnel;
   for (int c = 0; c < 3; ++c) dielectric_fresnel[c] = dielectric_f0[c] + (dielectric_f90 - dielectric_f0[c]) * w;
-  T fresnel_max = dielectric_fresnel[0];
+  F fresnel_max = dielectric_fresnel[0];
   for (int c = 1; c < 3; ++c)
     if (dielectric_fresnel[c] > fresnel_max) fresnel_max = dielectric_fresnel[c];
   for (int c = 0; c < 3; ++c) {
@@ -107,10 +108,9 @@ struct Gltf {
 
   template <class T>
   static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
-    const Rgb<T> f0(T(0.04), T(0.04), T(0.04));
     if (l.z() <= 0.0 || v.z() <= 0.0) return Rgb<T>(T(0.0), T(0.0), T(0.0));
-    return gltf_metallic_roughness(p + kBaseColor, p[kMetallic], gltf_specular_vd(p[kRoughness], l, v), f0, T(1.0), l,
-                                   v);
+    return gltf_metallic_roughness(p + kBaseColor, p[kMetallic], gltf_specular_vd(p[kRoughness], l, v),
+                                   Rgb<double>(0.04, 0.04, 0.04), 1.0, l, v);
   }
 
   // The recovery tests' material (model.h): a glossy roughness; at the middle of the log range,

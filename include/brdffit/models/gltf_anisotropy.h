@@ -95,9 +95,8 @@ struct GltfAnisotropy {
   template <class T>
   static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
     if (l.z() <= 0.0 || v.z() <= 0.0) return Rgb<T>(T(0.0), T(0.0), T(0.0));
-    const Rgb<T> f0(T(0.04), T(0.04), T(0.04));
     const T specular = gltf_anisotropic_vd(p[kRoughness], p[kAnisotropyStrength], p[kAnisotropyRotation], l, v);
-    return gltf_metallic_roughness(p + kBaseColor, p[kMetallic], specular, f0, T(1.0), l, v);
+    return gltf_metallic_roughness(p + kBaseColor, p[kMetallic], specular, Rgb<double>(0.04, 0.04, 0.04), 1.0, l, v);
   }
 
   // The recovery tests' material (model.h): gltf's glossy roughness, stretched to α_t = 0.37
