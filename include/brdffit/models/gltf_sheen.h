@@ -82,19 +82,6 @@ class SheenCharlie {
   T inv_alpha_, a_, b_, c_, d_, e_, twice_at_half_;
 };
 
-// D_S·V_S for l and v above the surface (sheenColor 1). A pass over the samples is at one
-// sheenRoughness: SheenCharlie is built once for it (math.h's once_per_parameters).
-template <class T>
-T sheen_charlie_dv(const T& sheen_roughness, const Vec3& l, const Vec3& v) {
-  const double nl = l.z(), nv = v.z(), nh = half_vector(l, v).z();
-  return of_one_parameter(sheen_roughness, [&](const auto& r) {
-    using R = std::decay_t<decltype(r)>;
-    const SheenCharlie<R>& sheen = once_per_parameters([](const R& r) { return SheenCharlie<R>(r); }, r);
-    const R visibility = 1.0 / ((1.0 + sheen.lambda(nv) + sheen.lambda(nl)) * (4.0 * nv * nl));
-    return R(sheen.d(nh) * visibility);
-  });
-}
-
 // E(μ, sheenRoughness), the directional albedo of D_S·V_S, tabulated once (see the head of this file).
 class SheenAlbedo {
  public:
@@ -130,17 +117,34 @@ class SheenAlbedo {
     return sum;
   }
 
-  // E at μ (clamped to [kMinMu, 1]) and a sheenRoughness in [kMinRoughness, 1], at most 1. The
-  // table is blended in sheenRoughness first, into one row per pass over the samples (math.h's
-  // once_per_parameters), then read at μ: the same bicubic surface as blending μ first.
+  // The table blended in sheenRoughness (in [kMinRoughness, 1]) into one row over μ, which read()
+  // reads at any μ: the same bicubic surface as blending μ first. A pass over the samples is at one
+  // sheenRoughness, so the sheen builds its row once per pass (gltf_sheen_layer).
   template <class T>
-  T operator()(double mu, const T& sheen_roughness) const {
+  using Row = std::array<T, kMuNodes + 2>;
+  template <class T>
+  Row<T> row_at(const T& sheen_roughness) const {
+    const T y = (sheen_roughness - kMinRoughness) / kStepRoughness;
+    const int j = std::clamp(static_cast<int>(std::floor(value_of(y))), 0, kRoughnessNodes - 2);
+    Row<T> row;
+    for (int i = 0; i < kMuNodes + 2; ++i) {
+      const std::array<double, 4> column = {nodes_[j][i], nodes_[j + 1][i], nodes_[j + 2][i], nodes_[j + 3][i]};
+      row[i] = catmull_rom(column.data(), T(y - double(j)));  // rows j-1 .. j+2
+    }
+    return row;
+  }
+  // E at μ (clamped to [kMinMu, 1]) from a row of row_at, at most 1.
+  template <class T>
+  static T read(const Row<T>& row, double mu) {
     const double x = std::clamp((std::sqrt(std::clamp(mu, kMinMu, 1.0)) - kMinT) / kStepT, 0.0, kMuNodes - 1.0);
     const int i = std::min(static_cast<int>(x), kMuNodes - 2);
-    // Keyed on the roughness alone: this is the one table (table()).
-    const auto& row = once_per_parameters([this](const T& r) { return row_at(r); }, sheen_roughness);
     const T e = catmull_rom(&row[i], x - i);
     return e > T(1.0) ? T(1.0) : (e < T(0.0) ? T(0.0) : e);
+  }
+  // E at μ and a sheenRoughness.
+  template <class T>
+  T operator()(double mu, const T& sheen_roughness) const {
+    return read(row_at(sheen_roughness), mu);
   }
 
  private:
@@ -162,19 +166,6 @@ class SheenAlbedo {
       row[0] = 3.0 * row[1] - 3.0 * row[2] + row[3];
       row[kMuNodes + 1] = 3.0 * row[kMuNodes] - 3.0 * row[kMuNodes - 1] + row[kMuNodes - 2];
     }
-  }
-
-  // The table's row at a sheenRoughness: nodes_[·][i] blended in sheenRoughness, for every μ node i.
-  template <class T>
-  std::array<T, kMuNodes + 2> row_at(const T& sheen_roughness) const {
-    const T y = (sheen_roughness - kMinRoughness) / kStepRoughness;
-    const int j = std::clamp(static_cast<int>(std::floor(value_of(y))), 0, kRoughnessNodes - 2);
-    std::array<T, kMuNodes + 2> row;
-    for (int i = 0; i < kMuNodes + 2; ++i) {
-      const std::array<double, 4> column = {nodes_[j][i], nodes_[j + 1][i], nodes_[j + 2][i], nodes_[j + 3][i]};
-      row[i] = catmull_rom(column.data(), T(y - double(j)));  // rows j-1 .. j+2
-    }
-    return row;
   }
 
   // Catmull-Rom through p[0..3] between p[1] and p[2], at fraction t (node values P and fraction
@@ -212,21 +203,37 @@ class SheenAlbedo {
   double nodes_[kRoughnessNodes + 2][kMuNodes + 2];
 };
 
+// What the sheen takes of sheenRoughness alone: its albedo table's row and the Charlie terms,
+// built once per pass over the samples (math.h's once_per_parameters).
+template <class T>
+struct SheenAtRoughness {
+  explicit SheenAtRoughness(const T& sheen_roughness)
+      : albedo(SheenAlbedo::table().row_at(sheen_roughness)), charlie(sheen_roughness) {}
+  SheenAlbedo::Row<T> albedo;
+  SheenCharlie<T> charlie;
+};
+
 // f_sheen + material · sheenAlbedoScaling, for l and v above the surface.
 template <class T>
 Rgb<T> gltf_sheen_layer(const Rgb<T>& material, const T* sheen_color, const T& sheen_roughness, const Vec3& l,
                         const Vec3& v) {
-  const SheenAlbedo& albedo = SheenAlbedo::table();
   T strongest = sheen_color[0];  // max3(sheenColor)
   for (int c = 1; c < 3; ++c)
     if (sheen_color[c] > strongest) strongest = sheen_color[c];
-  // min(1 - s·E(n·v), 1 - s·E(n·l)) = 1 - s·max(E(n·v), E(n·l)) for s = max3(sheenColor) ≥ 0.
-  const T larger_albedo = of_one_parameter(sheen_roughness, [&](const auto& r) {
-    const auto albedo_v = albedo(v.z(), r), albedo_l = albedo(l.z(), r);
-    return albedo_v > albedo_l ? albedo_v : albedo_l;
-  });
+  // Both terms of sheenRoughness alone, on Jets of its one derivative (math.h): the larger of the
+  // two directions' albedos, since min(1 - s·E(n·v), 1 - s·E(n·l)) = 1 - s·max(E(n·v), E(n·l)) for
+  // s = max3(sheenColor) ≥ 0, and D_S·V_S (sheenColor 1).
+  const double nl = l.z(), nv = v.z(), nh = half_vector(l, v).z();
+  const auto [larger_albedo, sheen] = of_parameters(
+      [&](const auto& r) {
+        using R = std::decay_t<decltype(r)>;
+        const SheenAtRoughness<R>& at = once_per_parameters([](const R& r) { return SheenAtRoughness<R>(r); }, r);
+        const R albedo_v = SheenAlbedo::read(at.albedo, nv), albedo_l = SheenAlbedo::read(at.albedo, nl);
+        const R visibility = 1.0 / ((1.0 + at.charlie.lambda(nv) + at.charlie.lambda(nl)) * (4.0 * nv * nl));
+        return std::array<R, 2>{albedo_v > albedo_l ? albedo_v : albedo_l, R(at.charlie.d(nh) * visibility)};
+      },
+      sheen_roughness);
   const T scaling = 1.0 - strongest * larger_albedo;
-  const T sheen = sheen_charlie_dv(sheen_roughness, l, v);
   Rgb<T> f;
   for (int c = 0; c < 3; ++c) f[c] = sheen_color[c] * sheen + material[c] * scaling;
   return f;
