@@ -134,6 +134,17 @@ const auto& once_per_parameters(F&& compute, const K& key, const More&... more) 
   return once_per_parameters([&compute](const Keys& keys) { return std::apply(compute, keys); }, Keys{key, more...});
 }
 
+// Whether x is a double equal to 0. A layer of weight 0 leaves what is under it exactly as it is
+// (what it adds is the weight times a finite term, what it multiplies by is 1 plus such a term), so
+// on doubles it need not be computed; on Jets its derivatives by the weight are not 0.
+template <class T>
+bool zero_on_doubles(const T& x) {
+  if constexpr (std::is_same_v<T, double>)
+    return x == 0.0;
+  else
+    return false;
+}
+
 template <class T>
 T abs_value(const T& x) {
   return x < T(0.0) ? T(-x) : x;
