@@ -151,8 +151,8 @@ std::vector<Start> multi_starts(const Model& model, Subsamples& subsamples, cons
   const std::vector<Sample>& grid_samples = small_is_all ? small : subsamples.draw(options.subsample / 3, options.seed);
   for (bool colours : {false, true}) {
     if (colours && !has_non_linear_colour(model)) break;
-    std::vector<Start> grid = grid_starts(model, initial, grid_samples, options.metric, channels, options, colours);
-    grid.resize(std::min(grid.size(), keep_best));
+    std::vector<Start> grid =
+        grid_starts(model, initial, grid_samples, options.metric, channels, options, colours, keep_best);
     if (!small_is_all)
       for (Start& point : grid) point.cost = solved_cost(model, point.values, small, options.metric, channels);
     // Both grids hold the defaults; a model whose shape is all colours (sgd) has nothing else

@@ -2,6 +2,7 @@
 // parameters, and a coordinate search from its best points (fit_stages.h).
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 
 #include "brdffit/fit_stages.h"
 #include "brdffit/parallel.h"
@@ -41,14 +42,14 @@ std::vector<double> grid_axis(const ParamSpec& p, int n) {
 }
 
 double solved_cost(const Model& model, std::vector<double>& values, const std::vector<Sample>& samples, Metric metric,
-                   const Channels& channels) {
-  const double cost = solve_linear(model, values, samples, metric, channels);
-  return std::isnan(cost) ? cost_of(model, values, samples, metric, channels, nullptr) : cost;
+                   const Channels& channels, double give_up_above) {
+  const double cost = solve_linear(model, values, samples, metric, channels, nullptr, give_up_above);
+  return std::isnan(cost) ? cost_of(model, values, samples, metric, channels, nullptr, 1, give_up_above) : cost;
 }
 
 std::vector<Start> grid_starts(const Model& model, const std::vector<double>& initial,
                                const std::vector<Sample>& samples, Metric metric, const Channels& channels,
-                               const FitOptions& options, bool colours) {
+                               const FitOptions& options, bool colours, size_t keep) {
   std::vector<const ParamSpec*> axes_params;
   for (const ParamSpec& p : model.parameters())
     if (!p.linear && (colours || p.channels == 1)) axes_params.push_back(&p);
@@ -75,6 +76,22 @@ std::vector<Start> grid_starts(const Model& model, const std::vector<double>& in
     std::fill_n(values.begin() + offset, p.channels, value);
   };
 
+  // The `keep` lowest costs met so far, a max-heap: a point's solve is given up once it is known to
+  // cost more than the highest of them, which only falls, so that point could not be kept.
+  std::mutex lowest_mutex;
+  std::vector<double> lowest;
+  auto give_up_above = [&] {
+    const std::lock_guard<std::mutex> lock(lowest_mutex);
+    return lowest.size() < keep ? HUGE_VAL : lowest.front();
+  };
+  auto met = [&](double cost) {
+    const std::lock_guard<std::mutex> lock(lowest_mutex);
+    if (lowest.size() == keep && !(cost < lowest.front())) return;
+    if (lowest.size() == keep) std::pop_heap(lowest.begin(), lowest.end()), lowest.pop_back();
+    lowest.push_back(cost);
+    std::push_heap(lowest.begin(), lowest.end());
+  };
+
   std::vector<Start> starts(total + 1);
   // The last entry starts from `initial` itself (the defaults), so the grid never does worse.
   parallel_for(total + 1, thread_count(options.threads), [&](size_t index) {
@@ -88,11 +105,13 @@ std::vector<Start> grid_starts(const Model& model, const std::vector<double>& in
     else if (index < total)
       for (int d = 0; d < dims; ++d)
         set(values, *axes_params[d], at_fraction(*axes_params[d], halton(index + 1, kPrimes[d % std::size(kPrimes)])));
-    const double cost = solved_cost(model, values, samples, metric, channels);
+    const double cost = solved_cost(model, values, samples, metric, channels, give_up_above());
+    met(cost);
     starts[index] = {std::move(values), cost};
   });
   stop_if_cancelled(options);
   std::sort(starts.begin(), starts.end(), [](const Start& a, const Start& b) { return a.cost < b.cost; });
+  starts.resize(std::min(starts.size(), keep));
   return starts;
 }
 
@@ -119,12 +138,16 @@ std::vector<double> SolvedCosts::shape_of(const std::vector<double>& values) con
   return shape;
 }
 
-const Start* SolvedCosts::find(const std::vector<double>& values) const {
+const Start* SolvedCosts::find(const std::vector<double>& values, double chosen_below) const {
   const auto it = known_.find(shape_of(values));
-  return it == known_.end() ? nullptr : &it->second;
+  if (it == known_.end() || !(it->second.cost_exact || it->second.point.cost > chosen_below)) return nullptr;
+  return &it->second.point;
 }
 
-void SolvedCosts::add(const Start& point) { known_.emplace(shape_of(point.values), point); }
+void SolvedCosts::add(const Start& point, bool cost_exact) {
+  Known& known = known_[shape_of(point.values)];  // a point computed again replaces a bound
+  known = {point, cost_exact};
+}
 
 Start coordinate_search(const Model& model, Start start, const std::vector<Sample>& samples, Metric metric,
                         const Channels& channels, const FitOptions& options, SolvedCosts& known) {
@@ -138,21 +161,25 @@ Start coordinate_search(const Model& model, Start start, const std::vector<Sampl
   // Moves `start` to the best of parameter p's values axis[first..last] if it is better than
   // `start`; returns whether it moved.
   auto move_to_best = [&](const ParamSpec& p, const std::vector<double>& axis, size_t first, size_t last) {
+    // A try is chosen only below this (and below every try chosen before it): a solve known to
+    // pass it is given up, and the try kept as costlier.
+    const double chosen_below = start.cost * (1 - 1e-9);
     std::vector<Start> tries(last - first + 1);
     std::vector<size_t> unknown;
     for (size_t i = 0; i < tries.size(); ++i) {
       tries[i].values = start.values;
       std::fill_n(tries[i].values.begin() + model.offset_of(p.name), p.channels, axis[first + i]);
-      if (const Start* met = known.find(tries[i].values))
+      if (const Start* met = known.find(tries[i].values, chosen_below))
         tries[i] = *met;
       else
         unknown.push_back(i);
     }
     parallel_for(unknown.size(), thread_count(options.threads), [&](size_t i) {
       Start& t = tries[unknown[i]];
-      t.cost = solved_cost(model, t.values, samples, metric, channels);
+      t.cost = solved_cost(model, t.values, samples, metric, channels, chosen_below);
     });
-    for (size_t i : unknown) known.add(tries[i]);
+    // A cost above the bound may only be a lower bound of it.
+    for (size_t i : unknown) known.add(tries[i], !(tries[i].cost > chosen_below));
     bool moved = false;
     for (Start& t : tries)
       if (t.cost < start.cost * (1 - 1e-9)) {

@@ -51,7 +51,7 @@ Eigen::VectorXd solve_box_quadratic(const Eigen::MatrixXd& a, const Eigen::Vecto
 }
 
 double solve_linear(const Model& model, std::vector<double>& values, const std::vector<Sample>& samples, Metric metric,
-                    const Channels& channels, double* cost_as_given) {
+                    const Channels& channels, double* cost_as_given, double give_up_above) {
   if (cost_as_given) *cost_as_given = NAN;
   std::vector<const ParamSpec*> linear;
   for (const ParamSpec& p : model.parameters())
@@ -66,7 +66,57 @@ double solve_linear(const Model& model, std::vector<double>& values, const std::
   double normal[3][kMaxLinear][kMaxLinear] = {}, projection[3][kMaxLinear] = {};
   std::array<double, 3> target_squares{0.0, 0.0, 0.0};  // Σ w·target², for the cost at the solution
   Rgb<double> basis[kMaxLinear];
+
+  const double lo0 = linear[0]->lower, hi0 = linear[0]->upper;
+  const double lo1 = m > 1 ? linear[1]->lower : 0.0, hi1 = m > 1 ? linear[1]->upper : 0.0;
+  // A lower bound of the objective at the solution, from the sums so far: their minimum over the
+  // box, and the sums over all samples only add terms ≥ 0. Less a millionth of Σ w·target², more
+  // than the rounding of the minimum where the normal equations are as well conditioned as asked;
+  // NaN where they are not, or for more than two linear parameters. (With one or two parameters
+  // the minimum over the box has a closed form: inside it, or on the nearest edge.)
+  auto lower_bound_so_far = [&]() -> double {
+    double bound = 0.0, targets = 0.0;
+    for (int c = 0; c < 3; ++c) {
+      if (!channels[c]) continue;
+      // xᵀAx − 2pᵀx, A = [a b; b d]
+      const double a = normal[c][0][0], p0 = projection[c][0];
+      double least;
+      if (m == 1) {
+        if (!(a > 0.0)) return NAN;
+        const double x = std::clamp(p0 / a, lo0, hi0);
+        least = a * x * x - 2.0 * p0 * x;
+      } else if (m == 2) {
+        const double b = normal[c][0][1], d = normal[c][1][1], p1 = projection[c][1], det = a * d - b * b;
+        if (!(det > 1e-6 * a * d)) return NAN;
+        auto q = [&](double x0, double x1) {
+          return a * x0 * x0 + 2.0 * b * x0 * x1 + d * x1 * x1 - 2.0 * (p0 * x0 + p1 * x1);
+        };
+        const double x0 = (d * p0 - b * p1) / det, x1 = (a * p1 - b * p0) / det;
+        if (x0 >= lo0 && x0 <= hi0 && x1 >= lo1 && x1 <= hi1) {
+          least = q(x0, x1);
+        } else {
+          least = HUGE_VAL;
+          for (double edge : {lo0, hi0}) least = std::min(least, q(edge, std::clamp((p1 - b * edge) / d, lo1, hi1)));
+          for (double edge : {lo1, hi1}) least = std::min(least, q(std::clamp((p0 - b * edge) / a, lo0, hi0), edge));
+        }
+      } else {
+        return NAN;
+      }
+      bound += target_squares[c] + least;
+      targets += target_squares[c];
+    }
+    return bound - 1e-6 * targets;
+  };
+  constexpr size_t kGiveUpCheck = 256;  // samples between two looks at the bound
+  const bool may_give_up = give_up_above < HUGE_VAL && metric_is_quadratic(metric);
+  size_t since_check = 0;
+
   for (const Sample& s : samples) {
+    if (may_give_up && ++since_check == kGiveUpCheck) {
+      since_check = 0;
+      const double bound = lower_bound_so_far();
+      if (bound > give_up_above) return bound;
+    }
     const Rgb<double> base = model.shade_linear_parts(values.data(), s.l, s.v, basis);
     for (int c = 0; c < 3; ++c) {
       if (!channels[c]) continue;

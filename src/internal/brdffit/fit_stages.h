@@ -65,15 +65,16 @@ std::vector<double> grid_axis(const ParamSpec& p, int n);
 // Solves the linear parameters of `values` and returns the cost there (cost_of without a loss):
 // from the solve's normal equations where they give it, which saves a pass over the samples per
 // grid point and search step (a quarter of those stages for a model with two linear colours).
+// Given up once known to pass give_up_above, as solve_linear and cost_of are.
 double solved_cost(const Model& model, std::vector<double>& values, const std::vector<Sample>& samples, Metric metric,
-                   const Channels& channels);
+                   const Channels& channels, double give_up_above = HUGE_VAL);
 
-// Every grid point's values with the linear parameters solved, sorted by cost on `samples`. The
-// grid spans the scalar non-linear parameters, and with `colours` the non-linear colours too, a
-// colour taking the same value in every channel (a start: the refinement separates them).
+// The `keep` cheapest grid points on `samples`, their linear parameters solved, cheapest first.
+// The grid spans the scalar non-linear parameters, and with `colours` the non-linear colours too,
+// a colour taking the same value in every channel (a start: the refinement separates them).
 std::vector<Start> grid_starts(const Model& model, const std::vector<double>& initial,
                                const std::vector<Sample>& samples, Metric metric, const Channels& channels,
-                               const FitOptions& options, bool colours);
+                               const FitOptions& options, bool colours, size_t keep);
 
 // Whether a model has a colour that is not solved linearly (the grid then also spans colours).
 bool has_non_linear_colour(const Model& model);
@@ -97,14 +98,20 @@ bool shape_mostly_in_colours(const Model& model);
 class SolvedCosts {
  public:
   explicit SolvedCosts(const Model& model);
-  // The point with these shape values (its linear values solved) and its cost, or nullptr.
-  const Start* find(const std::vector<double>& values) const;
-  void add(const Start& point);
+  // The point with these shape values (its linear values solved) and its cost, or one whose cost
+  // is known to be above `chosen_below` (it cannot be chosen), or nullptr.
+  const Start* find(const std::vector<double>& values, double chosen_below = HUGE_VAL) const;
+  // A point and its cost, or a lower bound of its cost (a solve given up).
+  void add(const Start& point, bool cost_exact = true);
 
  private:
+  struct Known {
+    Start point;
+    bool cost_exact;
+  };
   std::vector<double> shape_of(const std::vector<double>& values) const;  // linear values at 0
   std::vector<bool> linear_;                                              // per flattened value
-  std::map<std::vector<double>, Start> known_;
+  std::map<std::vector<double>, Known> known_;
 };
 
 // Coordinate search from a grid point, where the shape is mostly colours: each parameter in

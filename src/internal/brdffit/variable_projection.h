@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <cmath>
 #include <vector>
 
 #include "brdffit/fit_objective.h"
@@ -25,7 +26,12 @@ Eigen::VectorXd solve_box_quadratic(const Eigen::MatrixXd& a, const Eigen::Vecto
 // the prediction) and for a model without linear parameters. `cost_as_given`, if set, receives
 // the objective at the values as they were given, from the same normal equations (NaN where the
 // return is): the cost of a candidate and its linear parameters' optimum in one pass.
+//
+// A solve whose objective is known to pass give_up_above before the last sample is given up, as
+// cost_of does: it returns a value above that bound, itself a lower bound of the objective, and
+// leaves `values` as given. (Every 256 samples, the objective's minimum over the box on the
+// samples summed so far is compared with the bound, for one or two linear parameters.)
 double solve_linear(const Model& model, std::vector<double>& values, const std::vector<Sample>& samples, Metric metric,
-                    const Channels& channels, double* cost_as_given = nullptr);
+                    const Channels& channels, double* cost_as_given = nullptr, double give_up_above = HUGE_VAL);
 
 }  // namespace brdffit
