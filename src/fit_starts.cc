@@ -110,7 +110,9 @@ std::vector<Start> grid_starts(const Model& model, const std::vector<double>& in
     starts[index] = {std::move(values), cost};
   });
   stop_if_cancelled(options);
-  std::sort(starts.begin(), starts.end(), [](const Start& a, const Start& b) { return a.cost < b.cost; });
+  // Equal costs (a stylised model's steps) stay in the grid's order: which are kept does not depend on
+  // the costs of the points given up.
+  std::stable_sort(starts.begin(), starts.end(), [](const Start& a, const Start& b) { return a.cost < b.cost; });
   starts.resize(std::min(starts.size(), keep));
   return starts;
 }
