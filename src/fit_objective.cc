@@ -24,9 +24,9 @@ size_t bit_reversed(size_t order, size_t chunks) {
 
 // The one loop over a fit's residuals: calls visit(chunk, i, r) for every sample i and fitted
 // channel with r = metric residual · √weight, over `chunks` (a power of two) ranges of the
-// samples in parallel, taken in bit-reversed order, and chunk_done(chunk) after each. A chunk
-// not started when give_up() holds is skipped. Each sample's shaded value is also shown to
-// seen(i, shade).
+// samples in parallel, taken in bit-reversed order, and chunk_done(chunk) after each. Where
+// give_up(chunk) holds, at a chunk's start or every 256 of its samples, the rest of the chunk is
+// skipped (and chunk_done not called). Each sample's shaded value is also shown to seen(i, shade).
 template <class Visit, class ChunkDone, class GiveUp, class Seen = void (*)(size_t, const Rgb<double>&)>
 void for_each_residual(
     const Model& model, const std::vector<double>& values, const std::vector<Sample>& samples, Metric metric,
@@ -34,11 +34,11 @@ void for_each_residual(
     Seen&& seen = [](size_t, const Rgb<double>&) {}) {
   const size_t per_chunk = (samples.size() + chunks - 1) / chunks;
   parallel_for(chunks, threads, [&](size_t order) {
-    if (give_up()) return;
     const size_t chunk = bit_reversed(order, chunks);
     const size_t begin = std::min(samples.size(), chunk * per_chunk);
     const size_t end = std::min(samples.size(), begin + per_chunk);
     for (size_t i = begin; i < end; ++i) {
+      if ((i - begin) % 256 == 0 && give_up(chunk)) return;
       const Sample& s = samples[i];
       const Rgb<double> shade = model.shade(values.data(), s.l, s.v);
       seen(i, shade);
@@ -68,9 +68,14 @@ double summed_cost(const Model& model, const std::vector<double>& values, const 
   std::vector<double> partial(chunks, 0.0);
   // The sum over the chunks done so far. Bit-reversed, the chunks make it grow about evenly
   // however the error is spread over the table: a candidate at twice the bound is given up
-  // about halfway.
+  // about halfway. Within a chunk its own sum so far counts too (every term is ≥ 0), which is
+  // what gives a set of one chunk (fewer than 50 000 samples: the grids') its chance.
   std::atomic<double> done{0.0};
-  auto passed = [&] { return done.load() > give_up_above; };
+  std::atomic<bool> given_up{false};
+  auto passed = [&](size_t chunk) {
+    if (!given_up.load() && done.load() + partial[chunk] > give_up_above) given_up = true;
+    return given_up.load();
+  };
   for_each_residual(
       model, values, samples, metric, channels, chunks, chunks > 1 ? threads : 1,
       [&](size_t chunk, size_t, double residual) {
@@ -84,7 +89,7 @@ double summed_cost(const Model& model, const std::vector<double>& values, const 
         }
       },
       passed, seen);
-  if (passed()) return done.load();
+  // Given up, the sum so far: above the bound, and at most the whole sum.
   const double sum = std::accumulate(partial.begin(), partial.end(), 0.0);
   return std::isfinite(sum) ? sum : HUGE_VAL;
 }
@@ -109,7 +114,7 @@ std::vector<double> cost_per_sample(const Model& model, const std::vector<double
         detail::robustify(loss, residual, r, scale);
         costs[sample] += r * r;
       },
-      [](size_t) {}, [] { return false; });
+      [](size_t) {}, [](size_t) { return false; });
   return costs;
 }
 
@@ -128,7 +133,7 @@ double median_abs_residual(const Model& model, const std::vector<double>& values
   for_each_residual(
       model, values, samples, metric, channels, 1, 1,
       [&](size_t, size_t, double residual) { abs_residuals.push_back(std::fabs(residual)); }, [](size_t) {},
-      [] { return false; });
+      [](size_t) { return false; });
   if (abs_residuals.empty()) return 0.0;
   auto middle = abs_residuals.begin() + abs_residuals.size() / 2;
   std::nth_element(abs_residuals.begin(), middle, abs_residuals.end());

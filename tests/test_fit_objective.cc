@@ -186,6 +186,23 @@ TEST(FitObjective, CostGivenUpPastABoundIsAboveItAndOnlyPartOfTheSum) {
   }
 }
 
+// Fewer than 50 000 samples are one chunk (a grid's 4 000): the sum is given up within it, at the
+// first look (every 256 samples) past the bound. 16 000 samples, the first 1 000 far off.
+TEST(FitObjective, CostOfOneChunkGivenUpWithinItAtTheFirstLookPastTheBound) {
+  const Model& lambert = *find_model("lambert");
+  std::vector<Sample> samples(16000, {Vec3(0, 0, 1), Vec3(0, 0, 1), Rgb<double>(0.3, 0.3, 0.3), 1.0});
+  for (size_t i = 0; i < 1000; ++i) samples[i].value = Rgb<double>(0.9, 0.9, 0.9);
+  const std::vector<double> albedo{1, 1, 1};
+  const double full = cost_of(lambert, albedo, samples, Metric::Cosine, kAllChannels, nullptr);
+  const double d_far = 0.9 - kPredicted, d_near = 0.3 - kPredicted;
+  EXPECT_NEAR(full, 3 * 1000 * d_far * d_far + 3 * 15000 * d_near * d_near, 1e-9 * full);
+  EXPECT_EQ(cost_of(lambert, albedo, samples, Metric::Cosine, kAllChannels, nullptr, 1, 1.01 * full), full);
+  const double bound = 0.2 * full;
+  const double given_up = cost_of(lambert, albedo, samples, Metric::Cosine, kAllChannels, nullptr, 1, bound);
+  EXPECT_GT(given_up, bound);
+  EXPECT_LE(given_up, bound + 256 * 3 * d_far * d_far * (1 + 1e-12));  // one look later at most
+}
+
 TEST(FitObjective, MedianResidualAbsoluteErrorsAndTheZeroPrediction) {
   const Model& lambert = *find_model("lambert");
   const SampleSet set = two_samples();
