@@ -422,34 +422,38 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
       best.termination = "no start converged on the subsample";
     }
   }
-  // Refine on ever larger subsets (×10 each) before all samples: a large table's cost valley
-  // can be long, and walking it on a tenth of the data costs a tenth as much per step. Each
-  // subset is drawn where the data or the current fit's errors are large.
+  // Refine on ever larger subsets (×10 each, the last at least polish_after draws where the
+  // samples are twice that: importance_subset_draws) before all samples: a large table's cost
+  // valley can be long, and walking it on a tenth of the data costs a tenth as much per step.
+  // Each subset is drawn where the data or the current fit's errors are large.
   const int walk_iterations = std::min(options.max_iterations, kSubsetWalkIterations);
   size_t largest_draws = small.size();
   std::vector<Sample> largest_subset;
   Refinement subset_optimum;  // the last walk on the largest subset, its cost on that subset
-  if (!options.single_start)
-    for (size_t draws = small.size() * 10; draws < data.size(); draws *= 10) {
-      std::vector<Sample> subset =
-          importance_subset(data.samples, draws, options.seed, candidates.absolute_errors_at(best.values));
-      clock.lap("subset draws");
-      const LeastSquares on_subset(model, subset, options.metric, channels, loss.get(), options);
-      Refinement r = on_subset.run(best.values, walk_iterations, 1e-6, 0.0, best.usable ? &best : nullptr);
-      fit.iterations += r.iterations;
-      clock.lap(fmt::format("subset of {}", draws));
-      subset_optimum = r;
-      if (r.usable) {
-        best = r;
-        // A larger subset follows (a table whose subsample hit few distinct samples): it is drawn
-        // from this optimum's errors, which its cost on all samples gives in the same pass.
-        const bool another_subset = draws * 10 < data.size();
-        candidates.keep(std::move(r), another_subset ? Costing::WithErrors : Costing::WithLinearSolve);
-      }
-      clock.lap("candidate costs");
-      largest_draws = draws;
-      largest_subset = std::move(subset);
+  const std::vector<size_t> ladder = options.single_start
+                                         ? std::vector<size_t>{}
+                                         : importance_subset_draws(small.size(), data.size(), options.polish_after);
+  for (size_t rung = 0; rung < ladder.size(); ++rung) {
+    const size_t draws = ladder[rung];
+    std::vector<Sample> subset =
+        importance_subset(data.samples, draws, options.seed, candidates.absolute_errors_at(best.values));
+    clock.lap("subset draws");
+    const LeastSquares on_subset(model, subset, options.metric, channels, loss.get(), options);
+    Refinement r = on_subset.run(best.values, walk_iterations, 1e-6, 0.0, best.usable ? &best : nullptr);
+    fit.iterations += r.iterations;
+    clock.lap(fmt::format("subset of {}", draws));
+    subset_optimum = r;
+    if (r.usable) {
+      best = r;
+      // A larger subset follows (a table whose subsample hit few distinct samples): it is drawn
+      // from this optimum's errors, which its cost on all samples gives in the same pass.
+      const bool another_subset = rung + 1 < ladder.size();
+      candidates.keep(std::move(r), another_subset ? Costing::WithErrors : Costing::WithLinearSolve);
     }
+    clock.lap("candidate costs");
+    largest_draws = draws;
+    largest_subset = std::move(subset);
+  }
   // The other continued starts, after the walks on the importance subsets: a start is costed on
   // all samples only where the largest subset cannot tell it costlier than the best candidate.
   // The subset is drawn from the best start's errors, and its weights make sums over it unbiased

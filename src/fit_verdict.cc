@@ -68,6 +68,13 @@ bool later_start_surely_costlier(const std::vector<double>& terms, const std::ve
   return 0.5 * difference > kLaterStartErrors * standard_error + optimism;
 }
 
+std::vector<size_t> importance_subset_draws(size_t subsample, size_t samples, size_t polish_after) {
+  std::vector<size_t> draws;
+  for (size_t n = 10 * std::max<size_t>(subsample, 1); n < samples; n *= 10) draws.push_back(n);
+  if (!draws.empty() && draws.back() < polish_after && 2 * polish_after <= samples) draws.back() = polish_after;
+  return draws;
+}
+
 void judge(const Model& model, const FitResult* baseline, double zero_error, Metric metric, bool isotropic_data,
            FitResult& r) {
   constexpr double kPoorRatio = 1.05, kPoorUnexplained = 0.85, kPoorTypical = 1.0, kPoorClampedUnexplained = 0.25;

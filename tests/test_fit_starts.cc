@@ -13,6 +13,7 @@ namespace {
 
 using fitting::coordinate_search;
 using fitting::grid_starts;
+using fitting::importance_subset_draws;
 using fitting::later_start_surely_costlier;
 using fitting::same_cost;
 using fitting::same_optimum;
@@ -244,6 +245,21 @@ TEST(LaterStarts, SurelyCostlierOnlyPastFourStandardErrorsAndTheOptimism) {
   EXPECT_FALSE(later_start_surely_costlier(terms, best, 100.0, 0));
   EXPECT_FALSE(later_start_surely_costlier(best, best, 100.0, 0));
   EXPECT_FALSE(later_start_surely_costlier({}, {}, 100.0, 0));
+}
+
+// Ten times the subsample, then ten times the one before, below the number of samples; the last
+// raised to polish_after only where the samples are twice that.
+TEST(ImportanceSubsetDraws, TenfoldBelowTheSamplesTheLastAtLeastPolishAfterWhereTheSamplesAllowIt) {
+  using V = std::vector<size_t>;
+  EXPECT_EQ(importance_subset_draws(12000, 1096216, 100000), V({120000}));  // a full MERL table
+  EXPECT_EQ(importance_subset_draws(7799, 277182, 100000), V({100000}));    // a glossy RGL table
+  EXPECT_EQ(importance_subset_draws(11000, 277182, 100000), V({110000}));   // a matte one
+  EXPECT_EQ(importance_subset_draws(7799, 150000, 100000), V({77990}));     // not twice polish_after
+  EXPECT_EQ(importance_subset_draws(3000, 1096216, 100000), V({30000, 300000}));
+  EXPECT_EQ(importance_subset_draws(300, 1096216, 100000), V({3000, 30000, 300000}));
+  EXPECT_EQ(importance_subset_draws(300, 250000, 100000), V({3000, 100000}));
+  EXPECT_EQ(importance_subset_draws(12000, 110000, 100000), V());  // the subsample is a tenth or more
+  EXPECT_EQ(importance_subset_draws(0, 50, 100000), V({10}));      // no endless ladder from nothing
 }
 
 }  // namespace

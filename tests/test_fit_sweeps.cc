@@ -213,6 +213,22 @@ TEST(Fit, LargeSetsEndOnTheirImportanceSubsetOrConvergeWhenAsked) {
   EXPECT_NEAR(a.stddev[0], b.stddev[0], 0.05 * b.stddev[0]);
 }
 
+TEST(Fit, ASubsampleOfFewDistinctSamplesStillEndsOnASubsetOfPolishAfterDraws) {
+  // 250,000 samples and a 5,000-draw subsample: ten times it is 50,000 draws, under polish_after;
+  // the last subset is raised to 100,000 (importance_subset_draws), so all samples only check its
+  // optimum (or polish it) instead of walking the valley a third of the way again.
+  const Model& ward = *find_model("ward");
+  const std::vector<double> truth = parameter_values(ward, {"albedo=0.3,0.2,0.1", "specular=0.1", "alpha=0.15"});
+  const SampleSet data = test::synthetic(ward, truth, 250000, 0.01, 12);
+  FitOptions options;
+  options.subsample = 5000;
+  const FitResult fit = fit_model(ward, data, options);
+  ASSERT_TRUE(fit.ok) << fit.error;
+  EXPECT_NE(fit.termination.find("polished"), std::string::npos) << fit.termination;
+  EXPECT_NE(fit.termination.find("100000 draws"), std::string::npos) << fit.termination;
+  for (size_t i = 0; i < truth.size(); ++i) EXPECT_NEAR(fit.values[i], truth[i], 0.01 * truth[i]) << i;
+}
+
 TEST(Fit, PerChannelShapeParameters) {
   // Each channel has its own roughness: a per-channel fit recovers all three.
   const Model& ggx = *find_model("ggx");

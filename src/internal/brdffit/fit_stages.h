@@ -245,6 +245,15 @@ bool same_cost(double a, double b);
 bool later_start_surely_costlier(const std::vector<double>& terms, const std::vector<double>& best_terms,
                                  double best_cost, size_t free_values);
 
+// The sizes (draws) of the importance subsets walked between the subsample, of `subsample`
+// distinct samples, and all `samples`: ten times the subsample's, then ten times the one before,
+// while below the number of samples. The last is raised to polish_after where the samples are at
+// least twice that many, so that the stage on all samples polishes (FitOptions::polish_after)
+// instead of walking: a glossy RGL table's subsample holds few distinct samples (cc_iris_purple_gem:
+// 7 799 in 12 000 draws), its one subset had 77 990 draws, and sgd then walked 49 steps on all
+// 277 182 samples, two thirds of its fit (docs/performance.md, twenty-second round).
+std::vector<size_t> importance_subset_draws(size_t subsample, size_t samples, size_t polish_after);
+
 // The verdict and the warning lines of a fitted result (see Verdict in fit.h). A fit is poor
 // when any of these holds:
 //   - its error in any judged metric (kJudgedMetrics: cosine, log, relative and l2, whichever was
