@@ -71,7 +71,7 @@ bool later_start_surely_costlier(const std::vector<double>& terms, const std::ve
 std::vector<size_t> importance_subset_draws(size_t subsample, size_t samples, size_t polish_after) {
   std::vector<size_t> draws;
   for (size_t n = 10 * std::max<size_t>(subsample, 1); n < samples; n *= 10) draws.push_back(n);
-  if (!draws.empty() && draws.back() < polish_after && 2 * polish_after <= samples) draws.back() = polish_after;
+  if (!draws.empty() && draws.back() < polish_after && polish_after <= samples / 2) draws.back() = polish_after;
   return draws;
 }
 

@@ -260,6 +260,9 @@ TEST(ImportanceSubsetDraws, TenfoldBelowTheSamplesTheLastAtLeastPolishAfterWhere
   EXPECT_EQ(importance_subset_draws(300, 250000, 100000), V({3000, 100000}));
   EXPECT_EQ(importance_subset_draws(12000, 110000, 100000), V());  // the subsample is a tenth or more
   EXPECT_EQ(importance_subset_draws(0, 50, 100000), V({10}));      // no endless ladder from nothing
+  // --converge never polishes (polish_after = SIZE_MAX): the ladder stays tenfold.
+  EXPECT_EQ(importance_subset_draws(7799, 277182, SIZE_MAX), V({77990}));
+  EXPECT_EQ(importance_subset_draws(7799, 277182, SIZE_MAX / 2 + 1), V({77990}));  // twice it would wrap to 0
 }
 
 }  // namespace
