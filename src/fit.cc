@@ -379,9 +379,13 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
   const LeastSquares on_all(model, data.samples, options.metric, channels, loss.get(), options);
 
   Candidates candidates(model, data, options, channels, loss.get(), threads);
-  // The absolute errors on all samples of the subsample's best start draw the importance subsets
-  // below: computed with its cost on all samples, in one pass.
-  const bool draws_subsets = !options.single_start && small.size() * 10 < data.size();
+  // The sizes of the importance subsets walked after the subsample (see below). The absolute errors
+  // on all samples of the subsample's best start draw them: computed with its cost on all samples,
+  // in one pass.
+  const std::vector<size_t> ladder = options.single_start
+                                         ? std::vector<size_t>{}
+                                         : importance_subset_draws(small.size(), data.size(), options.polish_after);
+  const bool draws_subsets = !ladder.empty();
   for (const NestedStart& nested : nested_starts) {
     Refinement r;
     r.values = nested.values;
@@ -430,9 +434,6 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
   size_t largest_draws = small.size();
   std::vector<Sample> largest_subset;
   Refinement subset_optimum;  // the last walk on the largest subset, its cost on that subset
-  const std::vector<size_t> ladder = options.single_start
-                                         ? std::vector<size_t>{}
-                                         : importance_subset_draws(small.size(), data.size(), options.polish_after);
   for (size_t rung = 0; rung < ladder.size(); ++rung) {
     const size_t draws = ladder[rung];
     std::vector<Sample> subset =
