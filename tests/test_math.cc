@@ -80,6 +80,20 @@ TEST(OfParameters, CarriesEachOfSeveralValuesThroughTheChainRule) {
 
 // A term of the parameters alone is computed once for as long as its keys stay the same, to the
 // bit and derivatives included, and again as soon as one changes.
+// A layer's weight that is 0 with no derivative: a double 0, or a Jet that is a constant 0. A Jet
+// that differentiates by it, or whose value is tiny but not 0, is not.
+TEST(ConstantZero, IsZeroWithNoDerivative) {
+  EXPECT_TRUE(constant_zero(0.0));
+  EXPECT_TRUE(constant_zero(-0.0));
+  EXPECT_FALSE(constant_zero(1e-300));
+  EXPECT_TRUE(constant_zero(Jet5(0.0)));
+  EXPECT_FALSE(constant_zero(Jet5(0.0, 4)));  // the weight itself, differentiated by
+  EXPECT_FALSE(constant_zero(Jet5(1e-300)));
+  Jet5 through_another = Jet5(0.0);
+  through_another.v[2] = -1e-300;  // 0 here, but it moves with another value
+  EXPECT_FALSE(constant_zero(through_another));
+}
+
 TEST(OncePerParameters, ComputesAgainOnlyWhenAKeyChanges) {
   int computed = 0;
   const auto scaled = [&computed](double a, double b) {

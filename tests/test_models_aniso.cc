@@ -109,10 +109,22 @@ TEST(Nestings, ExactNestingsReproduceTheInnerModel) {
             values[outer->offset_of(p.name)] = std::uniform_real_distribution<double>(p.lower, p.upper)(rng);
         const Vec3 l = test::random_upper_direction(rng), v = test::random_upper_direction(rng);
         const Rgb<double> expected = inner->shade(inner_values.data(), l, v);
-        // On doubles a layer of weight 0 is not computed (math.h's zero_on_doubles); on Jets it is.
+        // A layer of weight 0 is not computed on doubles, nor on the Jets of the linear parts, which
+        // differentiate by the colours only (math.h's constant_zero); it is on the Jets that
+        // differentiate by the weight. All three must give the inner model's value.
         std::vector<double> jacobian(3 * outer->num_values());
-        for (const Rgb<double>& got :
-             {outer->shade(values.data(), l, v), outer->shade_with_jacobian(values.data(), l, v, jacobian.data())})
+        std::vector<Rgb<double>> basis;
+        for (const ParamSpec& p : outer->parameters())
+          if (p.linear) basis.emplace_back();
+        Rgb<double> rebuilt = outer->shade_linear_parts(values.data(), l, v, basis.data());
+        size_t j = 0;
+        for (const ParamSpec& p : outer->parameters())
+          if (p.linear) {
+            for (int c = 0; c < 3; ++c) rebuilt[c] += values[outer->offset_of(p.name) + c % p.channels] * basis[j][c];
+            ++j;
+          }
+        for (const Rgb<double>& got : {outer->shade(values.data(), l, v),
+                                       outer->shade_with_jacobian(values.data(), l, v, jacobian.data()), rebuilt})
           for (int c = 0; c < 3; ++c)
             EXPECT_NEAR(got[c], expected[c], 1e-12 * (1 + std::fabs(expected[c])))
                 << outer->name() << " ⊃ " << inner->name();
@@ -121,6 +133,42 @@ TEST(Nestings, ExactNestingsReproduceTheInnerModel) {
     }
   }
   EXPECT_GE(checked, 20 * 10);
+}
+
+// At weight 0 a layer adds nothing, but its weight's derivative there is the layer's own: the
+// Jets that differentiate by the weight compute the layer (math.h's constant_zero), so a fit at
+// the contained model's optimum sees which way the layer would take it. Checked against a forward
+// difference into the bounds at random values and directions.
+TEST(Layers, TheDerivativeByAWeightAtZeroIsTheLayersOwn) {
+  std::mt19937_64 rng(23);
+  const std::vector<std::pair<const char*, const char*>> weights = {
+      {"openpbr+coat", "coat_weight"},       {"openpbr+fuzz", "fuzz_weight"},
+      {"openpbr+coat+fuzz", "coat_weight"},  {"openpbr+coat+fuzz", "fuzz_weight"},
+      {"gltf+clearcoat", "clearcoatFactor"}, {"gltf+clearcoat+sheen", "clearcoatFactor"}};
+  for (const auto& [name, weight] : weights) {
+    const Model& model = *find_model(name);
+    SCOPED_TRACE(std::string(name) + ", " + weight);
+    const int at = model.offset_of(weight);
+    ASSERT_GE(at, 0);
+    const ParamSpec& p = *model.find_parameter(weight);
+    const double h = 1e-7 * (p.upper - p.lower);
+    double largest = 0.0;
+    for (int trial = 0; trial < 20; ++trial) {
+      std::vector<double> values = test::random_values(model, rng);
+      values[at] = 0.0;
+      const Vec3 l = test::random_upper_direction(rng), v = test::random_upper_direction(rng);
+      std::vector<double> jacobian(3 * model.num_values());
+      const Rgb<double> at_zero = model.shade_with_jacobian(values.data(), l, v, jacobian.data());
+      std::vector<double> moved = values;
+      moved[at] = h;
+      const Rgb<double> slope = (model.shade(moved.data(), l, v) - at_zero) / h;
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(jacobian[c * model.num_values() + at], slope[c], 1e-4 * (1.0 + std::fabs(slope[c])));
+        largest = std::max(largest, std::fabs(slope[c]));
+      }
+    }
+    EXPECT_GT(largest, 1e-3) << "the layer must matter somewhere";
+  }
 }
 
 // The models whose derivatives and reciprocity are checked here: anisotropic and two lobes.

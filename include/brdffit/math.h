@@ -134,15 +134,22 @@ const auto& once_per_parameters(F&& compute, const K& key, const More&... more) 
   return once_per_parameters([&compute](const Keys& keys) { return std::apply(compute, keys); }, Keys{key, more...});
 }
 
-// Whether x is a double equal to 0. A layer of weight 0 leaves what is under it exactly as it is
-// (what it adds is the weight times a finite term, what it multiplies by is 1 plus such a term), so
-// on doubles it need not be computed; on Jets its derivatives by the weight are not 0.
+// Whether x is 0 and carries no derivative: a double equal to 0, or a Jet whose value and
+// derivatives are all 0 (a constant). A layer of such a weight leaves what is under it exactly as it
+// is, derivatives included (what it adds is the weight times a finite term, what it multiplies by
+// is 1 plus such a term), so it need not be computed: on doubles, and on Jets that differentiate
+// by other values only (the linear parts' Jets, which differentiate by a colour). Where the Jets
+// differentiate by the weight, its derivatives there are not 0 and the layer is computed.
 template <class T>
-bool zero_on_doubles(const T& x) {
-  if constexpr (std::is_same_v<T, double>)
+bool constant_zero(const T& x) {
+  if constexpr (std::is_same_v<T, double>) {
     return x == 0.0;
-  else
-    return false;
+  } else {
+    if (x.a != 0.0) return false;
+    for (int i = 0; i < x.v.size(); ++i)
+      if (x.v[i] != 0.0) return false;
+    return true;
+  }
 }
 
 template <class T>

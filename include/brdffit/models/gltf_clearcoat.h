@@ -38,7 +38,7 @@ template <class T>
 Rgb<T> gltf_clearcoat_mix(const Rgb<T>& material, const T& clearcoat, const T& clearcoat_roughness, const Vec3& l,
                           const Vec3& v) {
   // No coat: the material as it is (math.h).
-  if (zero_on_doubles(clearcoat)) return material;
+  if (constant_zero(clearcoat)) return material;
   constexpr double kClearcoatIor = 1.5;  // the extension's, fixed
   const double r = (1.0 - kClearcoatIor) / (1.0 + kClearcoatIor), f0 = r * r;
   const double clearcoat_fresnel = f0 + (1.0 - f0) * schlick_weight(std::abs(v.z()));  // n_c = n

@@ -218,8 +218,7 @@ template <class T>
 Rgb<T> gltf_sheen_layer(const Rgb<T>& material, const T* sheen_color, const T& sheen_roughness, const Vec3& l,
                         const Vec3& v) {
   // No sheen: the material as it is (math.h).
-  if (zero_on_doubles(sheen_color[0]) && zero_on_doubles(sheen_color[1]) && zero_on_doubles(sheen_color[2]))
-    return material;
+  if (constant_zero(sheen_color[0]) && constant_zero(sheen_color[1]) && constant_zero(sheen_color[2])) return material;
   T strongest = sheen_color[0];  // max3(sheenColor)
   for (int c = 1; c < 3; ++c)
     if (sheen_color[c] > strongest) strongest = sheen_color[c];

@@ -105,7 +105,7 @@ Rgb<T> openpbr_coat_layer(const T* p, const T* coat, const Vec3& l, const Vec3& 
   using std::sqrt;
   const T &weight = coat[0], &coat_roughness = coat[4], &coat_ior = coat[5];
   const T* coat_color = coat + 1;
-  if (zero_on_doubles(weight)) return OpenPbr::brdf(p, l, v);  // no coat (math.h)
+  if (constant_zero(weight)) return OpenPbr::brdf(p, l, v);  // no coat (math.h)
   // The terms of one or two parameters run on Jets of one or two derivatives (math.h).
 
   // The base as the coat changes it: roughened, its Fresnel relative to the coat's index.
@@ -173,7 +173,7 @@ template <class T>
 Rgb<T> openpbr_fuzz_layer(const Rgb<T>& below, const T* fuzz, const Vec3& l, const Vec3& v) {
   const T &weight = fuzz[0], &sigma = fuzz[4];
   const T* fuzz_color = fuzz + 1;
-  if (zero_on_doubles(weight)) return below;  // no fuzz (math.h)
+  if (constant_zero(weight)) return below;  // no fuzz (math.h)
   const double x = v.z();
 
   // E(n·v, σ): MaterialX's Gaussian in n·v, of width s, centre m and offset o fitted in σ.
