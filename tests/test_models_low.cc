@@ -12,11 +12,13 @@
 #include <limits>
 #include <random>
 
+#include <ceres/jet.h>
 #include <nlohmann/json.hpp>
 
 #include "brdffit/error.h"
 #include "brdffit/io.h"
 #include "brdffit/model.h"
+#include "brdffit/models/sgd.h"
 #include "brdffit/published_fits.h"
 #include "brdffit/registry.h"
 #include "test_util.h"
@@ -169,6 +171,30 @@ TEST(LowModels, ContainLambertExactly) {
       expect_rgb_near(model.shade(outer.data(), l, v), lambert.shade(inner.data(), l, v), 1e-15);
     }
   }
+}
+
+TEST(Sgd, ShadowingWhereItsExponentIsBelowAUnitInTheLastPlaceOfOne) {
+  // G1 = 1 + Λ(1 − exp(x)), x = c(θ−θ0)^k. Where x < 2⁻⁶⁰ exp(x) rounds to 1 and the model skips
+  // the exps; the value must still be the formula's to the bit, and the Jets' derivatives its
+  // own: by c −Λe^x(θ−θ0)^k, tiny but not 0 (a fit's Jacobian needs them where all are tiny).
+  using models::SgdLobe;
+  const double theta = 1.0, theta0 = 0.2, lambda = 2.0, k = 24.5;
+  const double power = std::pow(theta - theta0, k);
+  for (double x : {0x1p-70, 0x1p-61, 0x1p-59, 0x1p-40, 1e-3}) {
+    SCOPED_TRACE(x);
+    const double c = x / power;
+    EXPECT_EQ(SgdLobe::shadowing(lambda, c, k, theta0, theta), 1.0 + lambda * (1.0 - std::exp(c * power)));
+    using Jet = ceres::Jet<double, 4>;
+    const Jet g = SgdLobe::shadowing(Jet(lambda, 0), Jet(c, 1), Jet(k, 2), Jet(theta0, 3), theta);
+    const double e = std::exp(c * power), log_base = std::log(theta - theta0);
+    EXPECT_EQ(g.a, 1.0 + lambda * (1.0 - e));
+    EXPECT_DOUBLE_EQ(g.v[0], 1.0 - e);
+    EXPECT_DOUBLE_EQ(g.v[1], -lambda * e * power);
+    EXPECT_DOUBLE_EQ(g.v[2], -lambda * e * c * power * log_base);
+    EXPECT_DOUBLE_EQ(g.v[3], lambda * e * c * power * k / (theta - theta0));
+  }
+  // x = 2⁻⁴⁰ is well within a double's reach of 1: G1 is not 1 there.
+  EXPECT_LT(SgdLobe::shadowing(lambda, 0x1p-40 / power, k, theta0, theta), 1.0);
 }
 
 TEST(Sgd, ContainsCookTorranceWhereItsShadowingIsOne) {
