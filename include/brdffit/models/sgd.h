@@ -32,6 +32,9 @@
 // approximately (see nestings()).
 #pragma once
 
+#include <cstdint>
+#include <cstring>
+
 #include "brdffit/models/over_lambert.h"
 
 namespace brdffit::models {
@@ -125,9 +128,11 @@ struct SgdLobe : Lobe {
       // exp(c(θ−θ0)^k) rounds to 1 where c(θ−θ0)^k < 2⁻⁶⁰, and then G1 is 1: told from the
       // exponent of c (c < 2^e), without the two exps (about a quarter of the directions past θ0
       // in sgd's fits of the MERL proxies).
-      int e = 0;
-      std::frexp(c, &e);
-      if (log_power < (-61.0 - e) * kLn2) return 1.0;
+      // The exponent is read from c's bits: std::frexp is a call into libm, 1.4 % of an sgd fit.
+      std::uint64_t bits;
+      std::memcpy(&bits, &c, sizeof bits);
+      const int biased = static_cast<int>((bits >> 52) & 0x7ff);  // 0x7ff: c is not finite
+      if (biased != 0x7ff && log_power < (-61.0 - (biased - 1022)) * kLn2) return 1.0;
     }
     const T capped = T(std::exp(kMaxShadowingExponent));
     T grow = capped;
