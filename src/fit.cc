@@ -537,10 +537,11 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
     fit.metrics = candidates.take_metrics_at(best.values);
   }
   clock.lap("candidate costs");
-  // JᵀJ at the optimum: over all samples, or estimated from the large importance subset (its
-  // weights make sums over it unbiased estimates of sums over all samples; with 100k draws the
-  // standard deviations come out within about a percent, for a tenth of the time).
-  if (polish && !largest_subset.empty())
+  // JᵀJ at the optimum: over all samples, or estimated from the large importance subset where it
+  // covers the table (its weights make sums over it unbiased estimates of sums over all samples;
+  // with 100k draws the standard deviations come out within about a percent, for a tenth of the
+  // time). A subset drawn into one spike of a start's errors does not (subset_covers).
+  if (polish && !largest_subset.empty() && subset_covers(largest_subset, data.samples))
     LeastSquares(model, largest_subset, options.metric, channels, loss.get(), options).estimate_covariance(best);
   else
     on_all.estimate_covariance(best);

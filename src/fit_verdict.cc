@@ -75,6 +75,17 @@ std::vector<size_t> importance_subset_draws(size_t subsample, size_t samples, si
   return draws;
 }
 
+bool subset_covers(const std::vector<Sample>& subset, const std::vector<Sample>& samples) {
+  constexpr double kSubsetCoverage = 0.1;
+  auto weight_sum = [](const std::vector<Sample>& set) {
+    double sum = 0.0;
+    for (const Sample& s : set) sum += s.weight;
+    return sum;
+  };
+  const double all = weight_sum(samples);
+  return all > 0.0 && std::abs(weight_sum(subset) / all - 1.0) <= kSubsetCoverage;
+}
+
 void judge(const Model& model, const FitResult* baseline, double zero_error, Metric metric, bool isotropic_data,
            FitResult& r) {
   constexpr double kPoorRatio = 1.05, kPoorUnexplained = 0.85, kPoorTypical = 1.0, kPoorClampedUnexplained = 0.25;

@@ -5,6 +5,7 @@
 #include <atomic>
 
 #include "brdffit/fit_stages.h"
+#include "brdffit/importance_subset.h"
 #include "brdffit/registry.h"
 #include "test_util.h"
 
@@ -20,6 +21,7 @@ using fitting::same_optimum;
 using fitting::solved_cost;
 using fitting::SolvedCosts;
 using fitting::Start;
+using fitting::subset_covers;
 
 // A registered model that counts its evaluations with doubles.
 class CountingModel final : public Model {
@@ -263,6 +265,29 @@ TEST(ImportanceSubsetDraws, TenfoldBelowTheSamplesTheLastAtLeastPolishAfterWhere
   // --converge never polishes (polish_after = SIZE_MAX): the ladder stays tenfold.
   EXPECT_EQ(importance_subset_draws(7799, 277182, SIZE_MAX), V({77990}));
   EXPECT_EQ(importance_subset_draws(7799, 277182, SIZE_MAX / 2 + 1), V({77990}));  // twice it would wrap to 0
+}
+
+// 50 000 samples of value 0.02 and weight 1, and errors of 0.01 except on 500 where a start's spike
+// errs by 1000: scored by their errors those take all but a few of the draws.
+TEST(SubsetCovers, AnUnbiasedSubsetDoesASpikeOfErrorsDoesNot) {
+  std::vector<Sample> samples(50000);
+  for (Sample& s : samples) {
+    s.l = s.v = Vec3(0, 0, 1);
+    s.value = Rgb<double>(0.02, 0.02, 0.02);
+  }
+  std::vector<double> errors(samples.size(), 0.01);
+  EXPECT_TRUE(subset_covers(importance_subset(samples, 5000, 3, errors), samples));
+  for (size_t i = 1000; i < 1500; ++i) errors[i] = 1000.0;
+  const std::vector<Sample> spike = importance_subset(samples, 5000, 3, errors);
+  EXPECT_LT(spike.size(), 600u);  // the subset as the fitter draws it: the spike and a few more
+  EXPECT_FALSE(subset_covers(spike, samples));
+  // 10 % either way, as the shared tables' subsets are within 5 %.
+  std::vector<Sample> scaled = samples;
+  for (Sample& s : scaled) s.weight = 1.09;
+  EXPECT_TRUE(subset_covers(scaled, samples));
+  for (Sample& s : scaled) s.weight = 0.89;
+  EXPECT_FALSE(subset_covers(scaled, samples));
+  EXPECT_FALSE(subset_covers({}, samples));
 }
 
 }  // namespace
