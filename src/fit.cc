@@ -462,8 +462,15 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
   // and so errs where the best does, where the subset is dense. First its own cost estimated
   // there, within kLaterStartMargin of the best cost known on all samples; then its difference
   // from the best, estimated draw by draw (later_start_surely_costlier).
+  // A subset that does not cover the table (drawn into one spike of a start's errors:
+  // subset_covers) judges nothing, and every such start is costed on all samples.
+  const bool subset_covers_table = !largest_subset.empty() && subset_covers(largest_subset, data.samples);
   std::vector<double> best_terms, best_terms_at;  // the cheapest candidate's terms on the subset
   for (const Refinement& r : later_starts) {
+    if (!subset_covers_table) {
+      candidates.keep(r);
+      continue;
+    }
     const std::vector<double> terms =
         cost_per_sample(model, r.values, largest_subset, options.metric, channels, loss.get(), threads);
     const double estimate = 0.5 * std::accumulate(terms.begin(), terms.end(), 0.0);
@@ -540,8 +547,8 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
   // JᵀJ at the optimum: over all samples, or estimated from the large importance subset where it
   // covers the table (its weights make sums over it unbiased estimates of sums over all samples;
   // with 100k draws the standard deviations come out within about a percent, for a tenth of the
-  // time). A subset drawn into one spike of a start's errors does not (subset_covers).
-  if (polish && !largest_subset.empty() && subset_covers(largest_subset, data.samples))
+  // time).
+  if (polish && subset_covers_table)
     LeastSquares(model, largest_subset, options.metric, channels, loss.get(), options).estimate_covariance(best);
   else
     on_all.estimate_covariance(best);
