@@ -544,15 +544,16 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
     fit.metrics = candidates.take_metrics_at(best.values);
   }
   clock.lap("candidate costs");
-  // JᵀJ at the optimum: over all samples, or estimated from the large importance subset where it
-  // covers the table (its weights make sums over it unbiased estimates of sums over all samples;
-  // with 100k draws the standard deviations come out within about a percent, for a tenth of the
-  // time).
-  if (polish && subset_covers_table)
-    LeastSquares(model, largest_subset, options.metric, channels, loss.get(), options).estimate_covariance(best);
-  else
+  // JᵀJ at the optimum, over all samples. An estimate from the largest importance subset took a
+  // tenth of the time, but on the shared tables its standard deviations were up to 30 % off for
+  // values inside their bounds (Cook-Torrance's m and specular on blue-acrylic, sgd's f1 on
+  // paper_white) and 5 times off for values on a bound (wrap on vch_golden_yellow): the subset
+  // holds few of the dim samples that determine some values (docs/performance.md, twenty-third
+  // round).
+  if (options.uncertainties) {
     on_all.estimate_covariance(best);
-  clock.lap("covariance");
+    clock.lap("covariance");
+  }
   fit.residuals = data.size() * static_cast<size_t>(std::count(channels.begin(), channels.end(), true));
   fit.final = std::move(best);
   return fit;
@@ -847,6 +848,13 @@ std::vector<FitResult> fit_models(const std::vector<const Model*>& models, const
   auto requested = [&](const std::string& name) {
     return std::any_of(models.begin(), models.end(), [&](const Model* m) { return m->name() == name; });
   };
+  // A requested model fitted in its isotropic form reports that form's fit, uncertainties included.
+  auto reported_as_isotropic_form = [&](const std::string& name) {
+    return data.isotropic && std::any_of(models.begin(), models.end(), [&](const Model* m) {
+             const Nesting* form = isotropic_form(*m);
+             return form && form->inner == name;
+           });
+  };
   // Fits `model` after the models it contains: exact nestings always (they carry the guarantee),
   // approximate ones only when that model is fitted in this run anyway.
   std::function<const FitResult&(const Model&)> fit = [&](const Model& model) -> const FitResult& {
@@ -873,6 +881,7 @@ std::vector<FitResult> fit_models(const std::vector<const Model*>& models, const
     if (!requested(model.name())) {
       own.initial_values.clear();
       own.single_start = false;
+      own.uncertainties = reported_as_isotropic_form(model.name());
     }
     const Nesting* form = data.isotropic ? isotropic_form(model) : nullptr;
     const auto form_fit = form ? fitted.find(form->inner) : fitted.end();

@@ -60,6 +60,22 @@ TEST(Symmetry, AnAnisotropicModelFittedToIsotropicDataComesOutIsotropicWithNoOri
   EXPECT_NEAR(alpha_x.stddev[0], 2.0 * r * roughness.stddev[0], 1e-6 * roughness.stddev[0] + 1e-15);
 }
 
+TEST(Symmetry, AnAnisotropicModelAloneReportsItsIsotropicFormsUncertainties) {
+  // fit_models leaves the uncertainties out for the models it fits only as starts and baseline
+  // (FitOptions::uncertainties), but an isotropic form reports its fit as the requested model's.
+  const std::string path = test::scratch_path("isotropic-metal-alone.binary");
+  const Model& ggx = *find_model("ggx");
+  const std::vector<double> values = parameter_values(ggx, {"albedo=0.02", "f0=0.8", "roughness=0.3"});
+  write_merl(path, [&](const Vec3& l, const Vec3& v) { return *ggx.brdf(values.data(), l, v); });
+  SamplingOptions sampling;
+  sampling.max_samples = 30000;
+  const std::vector<FitResult> fits = fit_models({find_model("ggx-aniso")}, load_samples(path, sampling), {});
+  ASSERT_TRUE(fits[0].ok) << fits[0].error;
+  for (const ParameterEstimate& p : fits[0].parameters)
+    if (p.name != "phi0")
+      for (double stddev : p.stddev) EXPECT_TRUE(std::isfinite(stddev) && stddev > 0.0) << p.name;
+}
+
 // The renderer materials with a stretch (a strength and its rotation): gltf+anisotropy is fitted
 // as its isotropic form, gltf; principled, whose isotropic lobe is no other model, with its
 // anisotropic held at 0 and its rotation at its default.

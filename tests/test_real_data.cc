@@ -3,6 +3,8 @@
 // fits Ngan, Durand & Matusik 2005 published for the same materials (bundled in data/).
 #include <gtest/gtest.h>
 
+#include <Eigen/Dense>
+
 #include "brdffit/fit.h"
 #include "brdffit/measured.h"
 #include "brdffit/published_fits.h"
@@ -143,6 +145,48 @@ TEST(RealData, ALayerOfWeightZeroReportsTheUncertaintiesOfTheModelUnderIt) {
     for (size_t k = 0; k < under.stddev.size(); ++k)
       EXPECT_NEAR(over.stddev[k], under.stddev[k], 0.05 * under.stddev[k]) << name << "[" << k << "]";
   }
+}
+
+// The reported standard deviations are those of the Gauss-Newton covariance on all samples,
+// σ²(JᵀJ)⁻¹ with σ² = Σ w r²/(residuals − free values), here rebuilt independently with J by central
+// differences of the model's shade. Cook-Torrance on blue-acrylic is a near-mirror lobe (m ≈ 0.011)
+// on a table whose importance subset holds few of the dim samples: estimated on that subset, m's
+// stddev was 24 % too large, the specular's 17 %, f0's 5 %.
+TEST(RealData, TheReportedUncertaintiesAreThoseOfAllSamples) {
+  const std::string path = test::merl_proxy("blue-acrylic");
+  SKIP_UNLESS_SHARED(!path.empty(), "the shared MERL proxies (" << test::kSharedDir << "/data/merl-proxy)");
+  const SampleSet data = load_samples(path, SamplingOptions{});
+  const Model& model = *find_model("cook-torrance");
+  const FitResult result = fit("cook-torrance", data);
+  const int n = model.num_values();
+  Eigen::MatrixXd jtj = Eigen::MatrixXd::Zero(n, n);
+  double squares = 0.0;
+  std::vector<double> values = result.values;
+  std::vector<Rgb<double>> derivative(n);
+  for (const Sample& s : data.samples) {
+    const Rgb<double> shade = model.shade(values.data(), s.l, s.v);
+    squares += s.weight * (shade - s.value).squaredNorm();
+    for (int j = 0; j < n; ++j) {
+      const double x = values[j], h = 1e-6 * std::max(std::abs(x), 1e-3);
+      values[j] = x + h;
+      const Rgb<double> up = model.shade(values.data(), s.l, s.v);
+      values[j] = x - h;
+      derivative[j] = (up - model.shade(values.data(), s.l, s.v)) / (2.0 * h);
+      values[j] = x;
+    }
+    for (int j = 0; j < n; ++j)
+      for (int k = 0; k <= j; ++k) jtj(j, k) += s.weight * derivative[j].dot(derivative[k]);
+  }
+  jtj = jtj.selfadjointView<Eigen::Lower>();
+  const double variance = squares / (3.0 * static_cast<double>(data.size()) - n);
+  const Eigen::MatrixXd covariance = variance * jtj.inverse();
+  int i = 0;
+  for (const ParameterEstimate& p : result.parameters)
+    for (double stddev : p.stddev) {
+      EXPECT_NEAR(stddev, std::sqrt(covariance(i, i)), 0.01 * std::sqrt(covariance(i, i))) << p.name;
+      ++i;
+    }
+  EXPECT_EQ(i, n);
 }
 
 }  // namespace

@@ -40,6 +40,10 @@ struct FitOptions {
   uint64_t seed = 1;                   // for the subsample
   bool single_start = false;           // one refinement from the initial values on all samples
   std::vector<double> initial_values;  // flattened start; empty: the model's defaults
+  // The parameters' standard deviations (FitResult::parameters' stddev, identifiable): one pass
+  // with derivatives over all samples. fit_models leaves them out for the models it fits only as
+  // the starts and the baseline of the requested ones.
+  bool uncertainties = true;
   // Parameters held at known values (a dielectric's metallic 0, a known ior 1.5), by name, in every
   // model of the run that has the parameter (every channel of a colour): the fit is that of the
   // remaining parameters, whose standard deviations take the held ones as exact. fit_models

@@ -261,7 +261,8 @@ std::vector<size_t> importance_subset_draws(size_t subsample, size_t samples, si
 // (gltf+clearcoat on red-fabric: 3 422 distinct samples in 120 000 draws, their weights 0.002 %
 // of all; on paper_white 1 550, 64 %). Such a subset says nothing of the rest of the table: the
 // covariance estimated on it gave the base's values 80 to 1 700 times the standard deviations of
-// the same values fitted as gltf (docs/performance.md, twenty-third round).
+// the same values fitted as gltf (docs/performance.md, twenty-third round), and the other continued
+// starts are not judged on it.
 bool subset_covers(const std::vector<Sample>& subset, const std::vector<Sample>& samples);
 
 // The verdict and the warning lines of a fitted result (see Verdict in fit.h). A fit is poor
