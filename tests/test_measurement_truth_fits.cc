@@ -19,14 +19,19 @@ namespace {
 
 // --- symmetry: anisotropic models on isotropic data -----------------------------------------------
 
-TEST(Symmetry, AnAnisotropicModelFittedToIsotropicDataComesOutIsotropicWithNoOrientation) {
-  const std::string path = test::scratch_path("isotropic-metal.binary");
+// 30 000 samples of a MERL table of an isotropic GGX metal (roughness 0.3), written as `file`.
+SampleSet isotropic_ggx_metal(const std::string& file) {
+  const std::string path = test::scratch_path(file);
   const Model& ggx = *find_model("ggx");
   const std::vector<double> values = parameter_values(ggx, {"albedo=0.02", "f0=0.8", "roughness=0.3"});
   write_merl(path, [&](const Vec3& l, const Vec3& v) { return *ggx.brdf(values.data(), l, v); });
   SamplingOptions sampling;
   sampling.max_samples = 30000;
-  const SampleSet set = load_samples(path, sampling);
+  return load_samples(path, sampling);
+}
+
+TEST(Symmetry, AnAnisotropicModelFittedToIsotropicDataComesOutIsotropicWithNoOrientation) {
+  const SampleSet set = isotropic_ggx_metal("isotropic-metal.binary");
   FitOptions options;
   options.threads = 2;
   const std::vector<FitResult> fits = fit_models(
@@ -63,13 +68,8 @@ TEST(Symmetry, AnAnisotropicModelFittedToIsotropicDataComesOutIsotropicWithNoOri
 TEST(Symmetry, AnAnisotropicModelAloneReportsItsIsotropicFormsUncertainties) {
   // fit_models leaves the uncertainties out for the models it fits only as starts and baseline
   // (FitOptions::uncertainties), but an isotropic form reports its fit as the requested model's.
-  const std::string path = test::scratch_path("isotropic-metal-alone.binary");
-  const Model& ggx = *find_model("ggx");
-  const std::vector<double> values = parameter_values(ggx, {"albedo=0.02", "f0=0.8", "roughness=0.3"});
-  write_merl(path, [&](const Vec3& l, const Vec3& v) { return *ggx.brdf(values.data(), l, v); });
-  SamplingOptions sampling;
-  sampling.max_samples = 30000;
-  const std::vector<FitResult> fits = fit_models({find_model("ggx-aniso")}, load_samples(path, sampling), {});
+  const std::vector<FitResult> fits =
+      fit_models({find_model("ggx-aniso")}, isotropic_ggx_metal("isotropic-metal-alone.binary"), {});
   ASSERT_TRUE(fits[0].ok) << fits[0].error;
   for (const ParameterEstimate& p : fits[0].parameters)
     if (p.name != "phi0")
