@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <limits>
 #include <memory>
+#include <random>
+#include <thread>
 #include <tuple>
 
 #include <nlohmann/json.hpp>
@@ -187,6 +189,73 @@ TEST(Sgd, AChannelShapedLikeTheOneBeforeIsShadedAsOnItsOwn) {
       }
     }
   }
+}
+
+// sgd computes its D once per run of samples with one n·h (math.h's once_per_parameters, keyed on
+// n·h and on the three channels' α, p and K). At samples sharing a half vector, shaded in turn
+// with each of those nine values changed, every shade, Jacobian and linear part must be what a
+// thread that has computed nothing before gets (its memo is empty), to the bit: a key that
+// overlooked one of them would hand back a stale D.
+TEST(Sgd, ADistributionReusedAlongARunOfOneHalfAngleIsTheOneComputedAfresh) {
+  const Model& sgd = *find_model("sgd");
+  const int n = sgd.num_values();
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  auto evaluate = [&](const std::vector<double>& values, const Vec3& l, const Vec3& v) {
+    std::vector<double> out(3 * n + 10);  // shade, Jacobian, the linear parts, shade on doubles
+    const Rgb<double> shaded = sgd.shade_with_jacobian(values.data(), l, v, out.data() + 3);
+    Rgb<double> basis[2];
+    sgd.shade_linear_parts(values.data(), l, v, basis);
+    for (int c = 0; c < 3; ++c) {
+      out[c] = shaded[c];
+      out[3 + 3 * n + c] = basis[0][c];
+      out[6 + 3 * n + c] = basis[1][c];
+    }
+    out[9 + 3 * n] = sgd.shade(values.data(), l, v)[2];
+    return out;
+  };
+  auto afresh = [&](const std::vector<double>& values, const Vec3& l, const Vec3& v) {
+    std::vector<double> out;
+    std::thread([&] { out = evaluate(values, l, v); }).join();
+    return out;
+  };
+  std::vector<double> base = sgd.default_values();
+  for (int c = 0; c < 3; ++c)  // channels apart, the shadowing acting from θ0 = 0.3 rad on
+    for (const auto& [name, value] : {std::pair{"alpha", 0.05 + 0.1 * c},
+                                      {"p", 0.3 + 0.2 * c},
+                                      {"K", 5.0 + 2.0 * c},
+                                      {"lambda", 1.5},
+                                      {"c", 0.3},
+                                      {"k", 3.0},
+                                      {"theta0", 0.3}})
+      base[sgd.offset_of(name) + c] = value;
+  std::vector<std::vector<double>> variants = {base};  // then each of D's nine values 10 % larger, then base
+  for (const char* name : {"alpha", "p", "K"})
+    for (int c = 0; c < 3; ++c) {
+      variants.push_back(base);
+      variants.back()[sgd.offset_of(name) + c] *= 1.1;
+    }
+  variants.push_back(base);  // so that the next half vector's first sample has the same values
+  int compared = 0;
+  for (int run = 0; run < 6; ++run) {
+    // A half vector 10-50° from the normal, and samples mirrored about it at 5-60°.
+    const double theta_h = 0.17 + 0.7 * unit(rng), phi_h = 2.0 * kPi * unit(rng);
+    const Vec3 h(std::sin(theta_h) * std::cos(phi_h), std::sin(theta_h) * std::sin(phi_h), std::cos(theta_h));
+    for (int sample = 0; sample < 4; ++sample) {
+      const double phi = 2.0 * kPi * unit(rng), theta_d = 0.09 + 0.95 * unit(rng);
+      const Vec3 tangent = h.cross(Vec3(std::cos(phi), std::sin(phi), 0.3)).normalized();
+      const Vec3 l = std::cos(theta_d) * h + std::sin(theta_d) * tangent, v = 2.0 * l.dot(h) * h - l;
+      if (l.z() <= 0.05 || v.z() <= 0.05) continue;
+      for (size_t k = 0; k < variants.size(); ++k) {
+        SCOPED_TRACE(testing::Message() << "run " << run << ", sample " << sample << ", variant " << k);
+        const std::vector<double> in_run = evaluate(variants[k], l, v), fresh = afresh(variants[k], l, v);
+        ASSERT_GT(fresh[0], 0.0);
+        for (size_t i = 0; i < fresh.size(); ++i) EXPECT_EQ(in_run[i], fresh[i]) << "entry " << i;
+        ++compared;
+      }
+    }
+  }
+  EXPECT_GE(compared, 100);  // of 264 evaluations, those of samples above the surface
 }
 
 // --- properties of every model ------------------------------------------------------------

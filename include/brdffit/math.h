@@ -106,7 +106,9 @@ bool same_bits(const J& a, const J& b) {
 
 // compute(keys) for a term of the parameters alone (a table's row at a roughness, a lobe's
 // normalisation) that a model would otherwise compute again for every sample of a pass over the
-// samples, all at the same parameters. Kept per thread and per call site (each `compute` lambda
+// samples, all at the same parameters; or for a term of the parameters and of a direction that
+// runs of samples share (sgd's D at one n·h: a MERL table's samples, and its subsets', come in runs
+// of one θh), the direction among the keys. Kept per thread and per call site (each `compute` lambda
 // is a type of its own), for the keys it was last computed for; the keys compare to the bit, so
 // what comes back is what computing would give. `compute` must depend on nothing but its keys;
 // the reference holds until the same call site is next reached on this thread.
