@@ -376,7 +376,9 @@ ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& s
     loss_scale = std::max(sigma, 1e-12) * (options.loss == LossKind::Huber ? 1.345 : 2.385);
   }
   const std::unique_ptr<ceres::LossFunction> loss = make_loss(options.loss, loss_scale);
-  const LeastSquares on_all(model, data.samples, options.metric, channels, loss.get(), options);
+  // The covariance is estimated where the last run on all samples ended, with its last Jacobian.
+  const LeastSquares on_all(model, data.samples, options.metric, channels, loss.get(), options,
+                            /*end_jacobian_read=*/options.uncertainties);
 
   Candidates candidates(model, data, options, channels, loss.get(), threads);
   // The sizes of the importance subsets walked after the subsample (see below). The absolute errors

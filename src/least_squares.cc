@@ -195,8 +195,11 @@ std::vector<int> LeastSquares::free_values() const {
 LeastSquares::SolveEnd LeastSquares::solve(Refinement& r, int max_iterations, double function_tolerance,
                                            double trust_region_radius) const {
   std::vector<double> x;
-  ceres::Problem problem;
-  build_problem(r, x, problem);
+  FinalJacobianWatch watch(max_iterations);
+  ceres::Problem::Options problem_options;
+  problem_options.evaluation_callback = &watch;
+  ceres::Problem problem(problem_options);
+  build_problem(r, x, problem, end_jacobian_read_ ? nullptr : &watch);
   const std::vector<ValueSlot> slots = value_slots(model_);
   std::vector<int> held_positions;
   std::vector<bool> watched(x.size());
@@ -287,7 +290,8 @@ std::vector<int> LeastSquares::held_on_bounds(const Refinement& r) const {
   return held;
 }
 
-void LeastSquares::build_problem(Refinement& r, std::vector<double>& x, ceres::Problem& problem) const {
+void LeastSquares::build_problem(Refinement& r, std::vector<double>& x, ceres::Problem& problem,
+                                 const FinalJacobianWatch* watch) const {
   x.clear();
   for (int i : r.free_index) x.push_back(r.values[i]);
   // Enough batches to keep every thread busy, each large enough to amortise its overhead.
@@ -305,8 +309,8 @@ void LeastSquares::build_problem(Refinement& r, std::vector<double>& x, ceres::P
     batch.free_index = &r.free_index;
     batch.full_values = &r.values;
     problem.AddResidualBlock(
-        new MemoizedCost(new_batch_cost(model_, batch), r.values, r.free_index, memos_[begin / per_batch]), nullptr,
-        x.data());
+        new MemoizedCost(new_batch_cost(model_, batch), r.values, r.free_index, memos_[begin / per_batch], watch),
+        nullptr, x.data());
   }
   const std::vector<ValueSlot> slots = value_slots(model_);
   for (size_t k = 0; k < x.size(); ++k) {

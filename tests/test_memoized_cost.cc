@@ -2,6 +2,8 @@
 // else reaches the wrapped cost function, and a fit is the same with the memo as without it.
 #include <gtest/gtest.h>
 
+#include <type_traits>
+
 #include "brdffit/memoized_cost.h"
 
 namespace brdffit::fitting {
@@ -70,12 +72,15 @@ TEST(MemoizedCost, AnswersTheSameValuesAgainAndAsksForAnyOther) {
   EXPECT_EQ(calls, 6);
 }
 
-// Rosenbrock's valley as r = (10(b − a²), 1 − a), counting its evaluations.
+// Rosenbrock's valley as r = (10(b − a²), 1 − a), counting its evaluations (and, if given,
+// those with derivatives apart).
 struct Rosenbrock {
   int* calls;
+  int* jacobian_calls = nullptr;
   template <class T>
   bool operator()(const T* x, T* r) const {
     ++*calls;
+    if (jacobian_calls && !std::is_same_v<T, double>) ++*jacobian_calls;
     r[0] = 10.0 * (x[1] - x[0] * x[0]);
     r[1] = 1.0 - x[0];
     return true;
@@ -109,6 +114,52 @@ TEST(MemoizedCost, ASolveEndsWhereItDoesWithoutTheMemoWithFewerEvaluations) {
   EXPECT_EQ(memoized.iterations.size(), plain.iterations.size());
   EXPECT_EQ(memoized.final_cost, plain.final_cost);
   EXPECT_LT(memoized_calls, plain_calls);
+}
+
+// A run that ends on its iteration limit after an accepted step: Ceres asks for the Jacobian there
+// before it looks at the limit. With FinalJacobianWatch that one is answered with zeros, uncomputed:
+// the same iterations, the same end and cost, bit for bit, one Jacobian fewer. Limits of 1 to 12
+// iterations from (−1.2, 1), from a radius small enough for its steps to be accepted.
+TEST(FinalJacobianWatch, TheJacobianAfterARunsLastAllowedStepIsNotComputed) {
+  auto solve = [](int max_iterations, bool watched, ceres::Solver::Summary& summary, int& jacobian_calls) {
+    std::vector<double> x = {-1.2, 1.0}, values = {0.0, 0.0};
+    const std::vector<int> free_index = {0, 1};
+    CostMemo memo;
+    int calls = 0;
+    FinalJacobianWatch watch(max_iterations);
+    ceres::Problem::Options problem_options;
+    if (watched) problem_options.evaluation_callback = &watch;
+    ceres::Problem problem(problem_options);
+    problem.AddResidualBlock(
+        new MemoizedCost(new ceres::AutoDiffCostFunction<Rosenbrock, 2, 2>(new Rosenbrock{&calls, &jacobian_calls}),
+                         values, free_index, memo, watched ? &watch : nullptr),
+        nullptr, x.data());
+    ceres::Solver::Options options;
+    options.trust_region_strategy_type = ceres::DOGLEG;
+    options.use_nonmonotonic_steps = true;
+    options.initial_trust_region_radius = 0.1;
+    options.max_num_iterations = max_iterations;
+    ceres::Solve(options, &problem, &summary);
+    return x;
+  };
+  int ended_on_an_accepted_step = 0;
+  for (int limit = 1; limit <= 12; ++limit) {
+    SCOPED_TRACE(limit);
+    ceres::Solver::Summary plain, watched;
+    int plain_jacobians = 0, watched_jacobians = 0;
+    const std::vector<double> plain_end = solve(limit, false, plain, plain_jacobians);
+    const std::vector<double> watched_end = solve(limit, true, watched, watched_jacobians);
+    EXPECT_EQ(watched_end, plain_end);
+    EXPECT_EQ(watched.final_cost, plain.final_cost);
+    ASSERT_EQ(watched.iterations.size(), plain.iterations.size());
+    EXPECT_EQ(watched.termination_type, plain.termination_type);
+    const bool limit_reached = static_cast<int>(plain.iterations.size()) == limit + 1;
+    const bool last_accepted = plain.iterations.back().step_is_successful;
+    const int unread = limit_reached && last_accepted ? 1 : 0;
+    ended_on_an_accepted_step += unread;
+    EXPECT_EQ(watched_jacobians, plain_jacobians - unread);
+  }
+  EXPECT_GE(ended_on_an_accepted_step, 8);  // else the test would show little
 }
 
 }  // namespace

@@ -145,9 +145,18 @@ struct Refinement {
 
 class LeastSquares {
  public:
+  // end_jacobian_read: the Jacobian where a run ends on its iteration limit is read afterwards (a
+  // covariance estimated there finds it in the memo); otherwise it is not computed
+  // (FinalJacobianWatch, memoized_cost.h).
   LeastSquares(const Model& model, const std::vector<Sample>& samples, Metric metric, const Channels& channels,
-               const ceres::LossFunction* loss, const FitOptions& options)
-      : model_(model), samples_(samples), metric_(metric), channels_(channels), loss_(loss), options_(options) {}
+               const ceres::LossFunction* loss, const FitOptions& options, bool end_jacobian_read = false)
+      : model_(model),
+        samples_(samples),
+        metric_(metric),
+        channels_(channels),
+        loss_(loss),
+        options_(options),
+        end_jacobian_read_(end_jacobian_read) {}
 
   // Trust-region least squares from `start`; function_tolerance: relative cost change at which it
   // stops. A continuation of an earlier run on the same samples passes that run's last trust-region
@@ -188,8 +197,10 @@ class LeastSquares {
   // The free values on a bound at r.values.
   std::vector<int> on_bounds(const Refinement& r) const;
 
-  // One residual block per batch of samples over the free values x, with the bounds.
-  void build_problem(Refinement& r, std::vector<double>& x, ceres::Problem& problem) const;
+  // One residual block per batch of samples over the free values x, with the bounds; a run's
+  // batches skip the Jacobian `watch` tells them is unread.
+  void build_problem(Refinement& r, std::vector<double>& x, ceres::Problem& problem,
+                     const FinalJacobianWatch* watch = nullptr) const;
 
   // The covariance (JᵀJ)⁺ of the free values from the Jacobian Ceres evaluates at the
   // optimum. Values the data do not determine (their direction lies partly in the numerical
@@ -204,6 +215,7 @@ class LeastSquares {
   Channels channels_;
   const ceres::LossFunction* loss_;
   const FitOptions& options_;
+  const bool end_jacobian_read_;
 
   // The last evaluations of each batch of samples: every run over these samples cuts them into the
   // same batches (build_problem).

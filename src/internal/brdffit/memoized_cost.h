@@ -19,6 +19,28 @@
 
 namespace brdffit::fitting {
 
+// Tells a run's batches when Ceres asks for a Jacobian nothing reads: at the point its last
+// allowed step reached. Ceres evaluates the Jacobian at every accepted point before it checks the
+// iteration limit, so a run that ends on its limit (the polish on all samples, a walk at its cap)
+// ends with one pass over its samples with derivatives for no step. Each iteration costs at most
+// one trial point (cost only); once `max_iterations` trial points have been costed, the Jacobian
+// asked for next is that one. Ceres then sees a zero gradient there, which only its summary reads.
+class FinalJacobianWatch final : public ceres::EvaluationCallback {
+ public:
+  explicit FinalJacobianWatch(int max_iterations) : max_iterations_(max_iterations) {}
+  void PrepareForEvaluation(bool evaluate_jacobians, bool new_evaluation_point) override {
+    if (!evaluate_jacobians) ++trial_points_;
+    unread_ = evaluate_jacobians && !new_evaluation_point && trial_points_ >= max_iterations_;
+  }
+  // Whether the Jacobian about to be asked for is the one after the last allowed step.
+  bool jacobian_unread() const { return unread_; }
+
+ private:
+  const int max_iterations_;
+  int trial_points_ = 0;
+  bool unread_ = false;
+};
+
 // The last evaluation, cost only and with the Jacobian, of one cost function over one parameter
 // block of free values.
 struct CostMemo {
@@ -32,15 +54,20 @@ struct CostMemo {
 class MemoizedCost final : public ceres::CostFunction {
  public:
   // Takes `cost` (one parameter block: the free values, values[free_index[k]] = x[k]). `values`
-  // holds the others, which the memo's key includes; it and `memo` must outlive this.
+  // holds the others, which the memo's key includes; it, `memo` and `watch` (if any) must outlive
+  // this. Where `watch` tells that the Jacobian asked for is unread, it is answered with zeros.
   MemoizedCost(ceres::CostFunction* cost, const std::vector<double>& values, const std::vector<int>& free_index,
-               CostMemo& memo)
-      : cost_(cost), values_(values), free_index_(free_index), memo_(memo) {
+               CostMemo& memo, const FinalJacobianWatch* watch = nullptr)
+      : cost_(cost), values_(values), free_index_(free_index), memo_(memo), watch_(watch) {
     set_num_residuals(cost->num_residuals());
     *mutable_parameter_block_sizes() = cost->parameter_block_sizes();
   }
 
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    if (jacobians && jacobians[0] && watch_ && watch_->jacobian_unread()) {
+      std::fill_n(jacobians[0], num_residuals() * free_index_.size(), 0.0);
+      return Evaluate(parameters, residuals, nullptr);  // the trial point's cost, from the memo
+    }
     const bool with_jacobian = jacobians && jacobians[0];
     CostMemo::Evaluation& last = with_jacobian ? memo_.with_jacobian : memo_.cost_only;
     std::vector<double> values = values_;
@@ -63,6 +90,7 @@ class MemoizedCost final : public ceres::CostFunction {
   const std::vector<double>& values_;
   const std::vector<int>& free_index_;
   CostMemo& memo_;
+  const FinalJacobianWatch* watch_;
 };
 
 }  // namespace brdffit::fitting
