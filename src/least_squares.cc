@@ -195,11 +195,11 @@ std::vector<int> LeastSquares::free_values() const {
 LeastSquares::SolveEnd LeastSquares::solve(Refinement& r, int max_iterations, double function_tolerance,
                                            double trust_region_radius) const {
   std::vector<double> x;
-  FinalJacobianWatch watch(max_iterations);
+  RunWatch watch(max_iterations, end_jacobian_read_);
   ceres::Problem::Options problem_options;
   problem_options.evaluation_callback = &watch;
   ceres::Problem problem(problem_options);
-  build_problem(r, x, problem, end_jacobian_read_ ? nullptr : &watch);
+  build_problem(r, x, problem, &watch);
   const std::vector<ValueSlot> slots = value_slots(model_);
   std::vector<int> held_positions;
   std::vector<bool> watched(x.size());
@@ -291,7 +291,7 @@ std::vector<int> LeastSquares::held_on_bounds(const Refinement& r) const {
 }
 
 void LeastSquares::build_problem(Refinement& r, std::vector<double>& x, ceres::Problem& problem,
-                                 const FinalJacobianWatch* watch) const {
+                                 RunWatch* watch) const {
   x.clear();
   for (int i : r.free_index) x.push_back(r.values[i]);
   // Enough batches to keep every thread busy, each large enough to amortise its overhead.

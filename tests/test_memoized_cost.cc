@@ -116,50 +116,89 @@ TEST(MemoizedCost, ASolveEndsWhereItDoesWithoutTheMemoWithFewerEvaluations) {
   EXPECT_LT(memoized_calls, plain_calls);
 }
 
+// Rosenbrock's valley as eight residual blocks of one parameter block, each its own MemoizedCost
+// watched by `watch` (if any), solved by Ceres' dogleg as the fitter solves: the end, and the
+// evaluations of the blocks without and with derivatives.
+struct WatchedSolve {
+  std::vector<double> x;
+  ceres::Solver::Summary summary;
+  int calls = 0, jacobian_calls = 0;
+};
+WatchedSolve solve_rosenbrock(int max_iterations, double initial_radius, RunWatch* watch) {
+  WatchedSolve out;
+  out.x = {-1.2, 1.0};
+  const std::vector<double> values = {0.0, 0.0};
+  const std::vector<int> free_index = {0, 1};
+  std::vector<CostMemo> memos(8);
+  ceres::Problem::Options problem_options;
+  problem_options.evaluation_callback = watch;
+  ceres::Problem problem(problem_options);
+  for (CostMemo& memo : memos)
+    problem.AddResidualBlock(new MemoizedCost(new ceres::AutoDiffCostFunction<Rosenbrock, 2, 2>(
+                                                  new Rosenbrock{&out.calls, &out.jacobian_calls}),
+                                              values, free_index, memo, watch),
+                             nullptr, out.x.data());
+  ceres::Solver::Options options;
+  options.trust_region_strategy_type = ceres::DOGLEG;
+  options.use_nonmonotonic_steps = true;
+  options.initial_trust_region_radius = initial_radius;
+  options.max_num_iterations = max_iterations;
+  options.max_num_line_search_step_size_iterations = 0;
+  ceres::Solve(options, &problem, &out.summary);
+  return out;
+}
+
 // A run that ends on its iteration limit after an accepted step: Ceres asks for the Jacobian there
-// before it looks at the limit. With FinalJacobianWatch that one is answered with zeros, uncomputed:
-// the same iterations, the same end and cost, bit for bit, one Jacobian fewer. Limits of 1 to 12
-// iterations from (−1.2, 1), from a radius small enough for its steps to be accepted.
-TEST(FinalJacobianWatch, TheJacobianAfterARunsLastAllowedStepIsNotComputed) {
-  auto solve = [](int max_iterations, bool watched, ceres::Solver::Summary& summary, int& jacobian_calls) {
-    std::vector<double> x = {-1.2, 1.0}, values = {0.0, 0.0};
-    const std::vector<int> free_index = {0, 1};
-    CostMemo memo;
-    int calls = 0;
-    FinalJacobianWatch watch(max_iterations);
-    ceres::Problem::Options problem_options;
-    if (watched) problem_options.evaluation_callback = &watch;
-    ceres::Problem problem(problem_options);
-    problem.AddResidualBlock(
-        new MemoizedCost(new ceres::AutoDiffCostFunction<Rosenbrock, 2, 2>(new Rosenbrock{&calls, &jacobian_calls}),
-                         values, free_index, memo, watched ? &watch : nullptr),
-        nullptr, x.data());
-    ceres::Solver::Options options;
-    options.trust_region_strategy_type = ceres::DOGLEG;
-    options.use_nonmonotonic_steps = true;
-    options.initial_trust_region_radius = 0.1;
-    options.max_num_iterations = max_iterations;
-    ceres::Solve(options, &problem, &summary);
-    return x;
-  };
+// before it looks at the limit. With a RunWatch that one is answered with zeros, uncomputed: the
+// same iterations, the same end and cost, bit for bit, and every block's Jacobian once fewer.
+// Limits of 1 to 12 iterations from (−1.2, 1), from a radius small enough for its steps to be
+// accepted; with end_jacobian_read, that Jacobian is computed.
+TEST(RunWatch, TheJacobianAfterARunsLastAllowedStepIsNotComputed) {
   int ended_on_an_accepted_step = 0;
   for (int limit = 1; limit <= 12; ++limit) {
     SCOPED_TRACE(limit);
-    ceres::Solver::Summary plain, watched;
-    int plain_jacobians = 0, watched_jacobians = 0;
-    const std::vector<double> plain_end = solve(limit, false, plain, plain_jacobians);
-    const std::vector<double> watched_end = solve(limit, true, watched, watched_jacobians);
-    EXPECT_EQ(watched_end, plain_end);
-    EXPECT_EQ(watched.final_cost, plain.final_cost);
-    ASSERT_EQ(watched.iterations.size(), plain.iterations.size());
-    EXPECT_EQ(watched.termination_type, plain.termination_type);
-    const bool limit_reached = static_cast<int>(plain.iterations.size()) == limit + 1;
-    const bool last_accepted = plain.iterations.back().step_is_successful;
-    const int unread = limit_reached && last_accepted ? 1 : 0;
+    RunWatch watch(limit, /*end_jacobian_read=*/false), reading(limit, /*end_jacobian_read=*/true);
+    const WatchedSolve plain = solve_rosenbrock(limit, 0.1, nullptr);
+    const WatchedSolve watched = solve_rosenbrock(limit, 0.1, &watch);
+    const WatchedSolve read = solve_rosenbrock(limit, 0.1, &reading);
+    EXPECT_EQ(watched.x, plain.x);
+    EXPECT_EQ(watched.summary.final_cost, plain.summary.final_cost);
+    ASSERT_EQ(watched.summary.iterations.size(), plain.summary.iterations.size());
+    EXPECT_EQ(watched.summary.termination_type, plain.summary.termination_type);
+    const bool limit_reached = static_cast<int>(plain.summary.iterations.size()) == limit + 1;
+    const int unread = limit_reached && plain.summary.iterations.back().step_is_successful ? 1 : 0;
     ended_on_an_accepted_step += unread;
-    EXPECT_EQ(watched_jacobians, plain_jacobians - unread);
+    EXPECT_EQ(watched.jacobian_calls, plain.jacobian_calls - 8 * unread);
+    EXPECT_EQ(read.jacobian_calls, plain.jacobian_calls);
+    EXPECT_EQ(read.x, plain.x);
   }
-  EXPECT_GE(ended_on_an_accepted_step, 8);  // else the test would show little
+  EXPECT_GE(ended_on_an_accepted_step, 6);  // 7 of the 12: else the test would show little
+}
+
+// From Ceres' radius of 1e4, a walk down Rosenbrock's valley tries many points far above its
+// start. With a RunWatch, a trial point whose blocks' costs pass twice the start's fails from the
+// next block on, and Ceres rejects it as it would have: the same iterations, each step accepted or
+// rejected alike, the same end and cost, bit for bit, with fewer block evaluations. A trial point
+// just below twice the start is costed whole.
+TEST(RunWatch, ATrialPointPastTwiceTheStartsCostIsGivenUpAndRejectedAllTheSame) {
+  RunWatch watch(100, /*end_jacobian_read=*/true);
+  const WatchedSolve plain = solve_rosenbrock(100, 1e4, nullptr);
+  const WatchedSolve watched = solve_rosenbrock(100, 1e4, &watch);
+  EXPECT_EQ(watched.x, plain.x);
+  EXPECT_NEAR(plain.x[0], 1.0, 1e-6);
+  EXPECT_EQ(watched.summary.final_cost, plain.summary.final_cost);
+  ASSERT_EQ(watched.summary.iterations.size(), plain.summary.iterations.size());
+  const double start = plain.summary.iterations[0].cost;
+  int far_above = 0;
+  for (size_t i = 1; i < plain.summary.iterations.size(); ++i) {
+    const ceres::IterationSummary &p = plain.summary.iterations[i], &w = watched.summary.iterations[i];
+    EXPECT_EQ(w.step_is_successful, p.step_is_successful) << "iteration " << i;
+    EXPECT_EQ(w.trust_region_radius, p.trust_region_radius) << "iteration " << i;
+    if (p.step_is_successful) EXPECT_EQ(w.cost, p.cost) << "iteration " << i;
+    if (!p.step_is_successful && p.cost > 2.0 * start) ++far_above;
+  }
+  EXPECT_GE(far_above, 3);
+  EXPECT_LT(watched.calls, plain.calls);
 }
 
 }  // namespace

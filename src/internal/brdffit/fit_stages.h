@@ -147,7 +147,7 @@ class LeastSquares {
  public:
   // end_jacobian_read: the Jacobian where a run ends on its iteration limit is read afterwards (a
   // covariance estimated there finds it in the memo); otherwise it is not computed
-  // (FinalJacobianWatch, memoized_cost.h).
+  // (RunWatch, memoized_cost.h).
   LeastSquares(const Model& model, const std::vector<Sample>& samples, Metric metric, const Channels& channels,
                const ceres::LossFunction* loss, const FitOptions& options, bool end_jacobian_read = false)
       : model_(model),
@@ -198,9 +198,8 @@ class LeastSquares {
   std::vector<int> on_bounds(const Refinement& r) const;
 
   // One residual block per batch of samples over the free values x, with the bounds; a run's
-  // batches skip the Jacobian `watch` tells them is unread.
-  void build_problem(Refinement& r, std::vector<double>& x, ceres::Problem& problem,
-                     const FinalJacobianWatch* watch = nullptr) const;
+  // batches skip what `watch` tells them cannot change where it goes (RunWatch, memoized_cost.h).
+  void build_problem(Refinement& r, std::vector<double>& x, ceres::Problem& problem, RunWatch* watch = nullptr) const;
 
   // The covariance (JᵀJ)⁺ of the free values from the Jacobian Ceres evaluates at the
   // optimum. Values the data do not determine (their direction lies partly in the numerical

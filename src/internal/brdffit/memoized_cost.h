@@ -14,31 +14,63 @@
 #include <ceres/ceres.h>
 
 #include <algorithm>
+#include <atomic>
+#include <limits>
 #include <memory>
 #include <vector>
 
 namespace brdffit::fitting {
 
-// Tells a run's batches when Ceres asks for a Jacobian nothing reads: at the point its last
-// allowed step reached. Ceres evaluates the Jacobian at every accepted point before it checks the
-// iteration limit, so a run that ends on its limit (the polish on all samples, a walk at its cap)
-// ends with one pass over its samples with derivatives for no step. Each iteration costs at most
-// one trial point (cost only); once `max_iterations` trial points have been costed, the Jacobian
-// asked for next is that one. Ceres then sees a zero gradient there, which only its summary reads.
-class FinalJacobianWatch final : public ceres::EvaluationCallback {
+// Watches one Ceres run (its EvaluationCallback; its batches report their costs) for the
+// evaluations whose result cannot change where the run goes:
+//
+// - The Jacobian after the run's last allowed step. Ceres evaluates the Jacobian at every accepted
+//   point before it checks the iteration limit, so a run that ends on its limit (the polish on all
+//   samples, a walk at its cap) would end with a pass over its samples with derivatives for no
+//   step. Each iteration costs at most one trial point; once `max_iterations` have been costed,
+//   the Jacobian asked for next is that one. It is answered with zeros, which only Ceres' summary
+//   reads.
+// - The rest of a trial point's cost once the part summed passes twice the run's starting cost.
+//   Every point a run accepts costs less than its start (the non-monotonic steps too: less than
+//   an earlier point), so Ceres rejects such a trial point, and its dogleg halves the radius
+//   whatever the cost; a trial point whose evaluation fails is one of infinite cost, rejected the
+//   same way. Twice the start and not once: Ceres also ends a run where a trial point costs within
+//   function_tolerance of the current point, which a sum cut just past the start could feign.
+//   Trial points rejected at 10 to 10⁴ times the cost are common in the heavy models' walks.
+class RunWatch final : public ceres::EvaluationCallback {
  public:
-  explicit FinalJacobianWatch(int max_iterations) : max_iterations_(max_iterations) {}
+  // end_jacobian_read: the Jacobian after the last allowed step is read afterwards (a covariance
+  // estimated there finds it in the memo), and is computed.
+  RunWatch(int max_iterations, bool end_jacobian_read)
+      : max_iterations_(end_jacobian_read ? std::numeric_limits<int>::max() : max_iterations) {}
+
   void PrepareForEvaluation(bool evaluate_jacobians, bool new_evaluation_point) override {
+    // The run's first evaluation, at its start and with the Jacobian, has ended.
+    if (start_cost_ < 0.0 && evaluations_ > 0) start_cost_ = cost_.load();
+    ++evaluations_;
     if (!evaluate_jacobians) ++trial_points_;
-    unread_ = evaluate_jacobians && !new_evaluation_point && trial_points_ >= max_iterations_;
+    costing_trial_ = !evaluate_jacobians;
+    jacobian_unread_ = evaluate_jacobians && !new_evaluation_point && trial_points_ >= max_iterations_;
+    cost_ = 0.0;
   }
   // Whether the Jacobian about to be asked for is the one after the last allowed step.
-  bool jacobian_unread() const { return unread_; }
+  bool jacobian_unread() const { return jacobian_unread_; }
+  // Whether the evaluation is a trial point whose cost summed so far passes twice the start's:
+  // Ceres will reject it.
+  bool trial_rejected() const { return costing_trial_ && start_cost_ >= 0.0 && cost_.load() > 2.0 * start_cost_; }
+  // Adds one batch's cost (½Σr²) to the evaluation's (batches may end on several threads).
+  void add(double batch_cost) {
+    double sum = cost_.load();
+    while (!cost_.compare_exchange_weak(sum, sum + batch_cost)) {
+    }
+  }
 
  private:
   const int max_iterations_;
-  int trial_points_ = 0;
-  bool unread_ = false;
+  int evaluations_ = 0, trial_points_ = 0;
+  bool costing_trial_ = false, jacobian_unread_ = false;
+  double start_cost_ = -1.0;       // the first evaluation's cost, once it has ended
+  std::atomic<double> cost_{0.0};  // the current evaluation's, summed over the batches that ended
 };
 
 // The last evaluation, cost only and with the Jacobian, of one cost function over one parameter
@@ -55,19 +87,32 @@ class MemoizedCost final : public ceres::CostFunction {
  public:
   // Takes `cost` (one parameter block: the free values, values[free_index[k]] = x[k]). `values`
   // holds the others, which the memo's key includes; it, `memo` and `watch` (if any) must outlive
-  // this. Where `watch` tells that the Jacobian asked for is unread, it is answered with zeros.
+  // this. With a watch, a Jacobian it tells is unread is answered with zeros, and a trial point it
+  // tells Ceres will reject fails (RunWatch).
   MemoizedCost(ceres::CostFunction* cost, const std::vector<double>& values, const std::vector<int>& free_index,
-               CostMemo& memo, const FinalJacobianWatch* watch = nullptr)
+               CostMemo& memo, RunWatch* watch = nullptr)
       : cost_(cost), values_(values), free_index_(free_index), memo_(memo), watch_(watch) {
     set_num_residuals(cost->num_residuals());
     *mutable_parameter_block_sizes() = cost->parameter_block_sizes();
   }
 
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
-    if (jacobians && jacobians[0] && watch_ && watch_->jacobian_unread()) {
+    if (!watch_) return answer(parameters, residuals, jacobians);
+    if (jacobians && jacobians[0] && watch_->jacobian_unread()) {
       std::fill_n(jacobians[0], num_residuals() * free_index_.size(), 0.0);
-      return Evaluate(parameters, residuals, nullptr);  // the trial point's cost, from the memo
+      return answer(parameters, residuals, nullptr);  // the trial point's cost, from the memo
     }
+    if (watch_->trial_rejected()) return false;  // a step of infinite cost: rejected all the same
+    if (!answer(parameters, residuals, jacobians)) return false;
+    double squares = 0.0;
+    for (int i = 0; i < num_residuals(); ++i) squares += residuals[i] * residuals[i];
+    watch_->add(0.5 * squares);
+    return true;
+  }
+
+ private:
+  // The evaluation, from the memo where it holds these values.
+  bool answer(double const* const* parameters, double* residuals, double** jacobians) const {
     const bool with_jacobian = jacobians && jacobians[0];
     CostMemo::Evaluation& last = with_jacobian ? memo_.with_jacobian : memo_.cost_only;
     std::vector<double> values = values_;
@@ -85,12 +130,11 @@ class MemoizedCost final : public ceres::CostFunction {
     return true;
   }
 
- private:
   std::unique_ptr<ceres::CostFunction> cost_;
   const std::vector<double>& values_;
   const std::vector<int>& free_index_;
   CostMemo& memo_;
-  const FinalJacobianWatch* watch_;
+  RunWatch* watch_;
 };
 
 }  // namespace brdffit::fitting
