@@ -137,6 +137,26 @@ TEST(Ggx, HandValues) {
   expect_channels_near(shade("ggx", {}, dir(0, 1, -0.1), dir(0, 0, 1)), 0, 0, 0);
 }
 
+// What sgd's evaluations give at one point, for comparisons to the bit: channel c's shade at [c],
+// its derivative by value i at [3 + c·n + i] (n values), the linear parts (albedo's, specular's)
+// at [3 + 3n + 3j + c], and the shade on doubles (all channels) at [9 + 3n + c].
+std::vector<double> sgd_outputs(const std::vector<double>& values, const Vec3& l, const Vec3& v) {
+  const Model& sgd = *find_model("sgd");
+  const int n = sgd.num_values();
+  std::vector<double> out(12 + 3 * n);
+  const Rgb<double> shaded = sgd.shade_with_jacobian(values.data(), l, v, out.data() + 3);
+  Rgb<double> basis[2];
+  EXPECT_EQ(sgd.shade_linear_parts(values.data(), l, v, basis), Rgb<double>::Zero());  // all linear
+  const Rgb<double> on_doubles = sgd.shade(values.data(), l, v);
+  for (int c = 0; c < 3; ++c) {
+    out[c] = shaded[c];
+    out[3 + 3 * n + c] = basis[0][c];
+    out[6 + 3 * n + c] = basis[1][c];
+    out[9 + 3 * n + c] = on_doubles[c];
+  }
+  return out;
+}
+
 // sgd computes a channel's lobe once when its shape values are those of the channel before (the
 // grid and the coordinate search set them alike in the three channels). From such a point, each
 // shape value of channel 0 is changed in turn: channels 1 and 2 keep their values, derivatives and
@@ -146,15 +166,6 @@ TEST(Sgd, AChannelShapedLikeTheOneBeforeIsShadedAsOnItsOwn) {
   const int n = sgd.num_values();
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> unit(0.1, 0.9);
-  auto evaluate = [&](const std::vector<double>& values, const Vec3& l, const Vec3& v) {
-    std::vector<double> out(3 * n + 6);  // Jacobian, then the linear parts (albedo's, specular's)
-    const Rgb<double> shaded = sgd.shade_with_jacobian(values.data(), l, v, out.data());
-    Rgb<double> basis[2];
-    EXPECT_EQ(sgd.shade_linear_parts(values.data(), l, v, basis), Rgb<double>::Zero());  // all linear here
-    for (int j = 0; j < 2; ++j)
-      for (int c = 0; c < 3; ++c) out[3 * n + 3 * j + c] = basis[j][c];
-    return std::make_pair(shaded, out);
-  };
   std::vector<const ParamSpec*> shape;
   for (const ParamSpec& p : sgd.parameters())
     if (!p.linear) shape.push_back(&p);
@@ -174,18 +185,18 @@ TEST(Sgd, AChannelShapedLikeTheOneBeforeIsShadedAsOnItsOwn) {
       return Vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
     };
     const Vec3 l = direction(), v = direction();
-    const auto [alike_shade, alike_out] = evaluate(alike, l, v);
+    const std::vector<double> alike_out = sgd_outputs(alike, l, v);
     for (const ParamSpec* p : shape) {
       SCOPED_TRACE(p->name);
       std::vector<double> apart = alike;
       double& changed = apart[sgd.offset_of(p->name)];
       changed = p->spacing == Spacing::Log ? changed * 1.5 : changed + 0.05 * (p->upper - p->lower);
-      const auto [apart_shade, apart_out] = evaluate(apart, l, v);
-      EXPECT_NE(apart_shade[0], alike_shade[0]);  // the change matters
+      const std::vector<double> apart_out = sgd_outputs(apart, l, v);
+      EXPECT_NE(apart_out[0], alike_out[0]);  // the change matters
       for (int c = 1; c < 3; ++c) {
-        EXPECT_EQ(apart_shade[c], alike_shade[c]) << "channel " << c;
-        for (int i = 0; i < n; ++i) EXPECT_EQ(apart_out[c * n + i], alike_out[c * n + i]) << "channel " << c;
-        for (int j = 0; j < 2; ++j) EXPECT_EQ(apart_out[3 * n + 3 * j + c], alike_out[3 * n + 3 * j + c]);
+        EXPECT_EQ(apart_out[c], alike_out[c]) << "channel " << c;
+        for (int i = 0; i < n; ++i) EXPECT_EQ(apart_out[3 + c * n + i], alike_out[3 + c * n + i]) << "channel " << c;
+        for (int k = 3 + 3 * n + c; k < 12 + 3 * n; k += 3) EXPECT_EQ(apart_out[k], alike_out[k]) << "channel " << c;
       }
     }
   }
@@ -198,25 +209,11 @@ TEST(Sgd, AChannelShapedLikeTheOneBeforeIsShadedAsOnItsOwn) {
 // overlooked one of them would hand back a stale D.
 TEST(Sgd, ADistributionReusedAlongARunOfOneHalfAngleIsTheOneComputedAfresh) {
   const Model& sgd = *find_model("sgd");
-  const int n = sgd.num_values();
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  auto evaluate = [&](const std::vector<double>& values, const Vec3& l, const Vec3& v) {
-    std::vector<double> out(3 * n + 10);  // shade, Jacobian, the linear parts, shade on doubles
-    const Rgb<double> shaded = sgd.shade_with_jacobian(values.data(), l, v, out.data() + 3);
-    Rgb<double> basis[2];
-    sgd.shade_linear_parts(values.data(), l, v, basis);
-    for (int c = 0; c < 3; ++c) {
-      out[c] = shaded[c];
-      out[3 + 3 * n + c] = basis[0][c];
-      out[6 + 3 * n + c] = basis[1][c];
-    }
-    out[9 + 3 * n] = sgd.shade(values.data(), l, v)[2];
-    return out;
-  };
   auto afresh = [&](const std::vector<double>& values, const Vec3& l, const Vec3& v) {
     std::vector<double> out;
-    std::thread([&] { out = evaluate(values, l, v); }).join();
+    std::thread([&] { out = sgd_outputs(values, l, v); }).join();
     return out;
   };
   std::vector<double> base = sgd.default_values();
@@ -248,7 +245,7 @@ TEST(Sgd, ADistributionReusedAlongARunOfOneHalfAngleIsTheOneComputedAfresh) {
       if (l.z() <= 0.05 || v.z() <= 0.05) continue;
       for (size_t k = 0; k < variants.size(); ++k) {
         SCOPED_TRACE(testing::Message() << "run " << run << ", sample " << sample << ", variant " << k);
-        const std::vector<double> in_run = evaluate(variants[k], l, v), fresh = afresh(variants[k], l, v);
+        const std::vector<double> in_run = sgd_outputs(variants[k], l, v), fresh = afresh(variants[k], l, v);
         ASSERT_GT(fresh[0], 0.0);
         for (size_t i = 0; i < fresh.size(); ++i) EXPECT_EQ(in_run[i], fresh[i]) << "entry " << i;
         ++compared;
