@@ -69,9 +69,15 @@ struct SgdLobe : Lobe {
   static std::vector<ParamSpec> parameters() {
     // Defaults (where fits start) are the medians of Bagher's 100 MERL fits (bagher_sgd.fit),
     // bounds cover their 10-90 % range and more (the published values of a few materials lie
-    // outside: they still score, unclamped); K's default is BBM's.
+    // outside: they still score, unclamped); K's default is BBM's. specular goes up to 1e4, far
+    // above Bagher's values (at most 0.66): the fitter solves it exactly for the shape values it
+    // tries (variable projection), and only specular·K sets the lobe's scale. Capped at 5, the
+    // solve could not scale a sharp lobe whose K the search had not yet raised, and the search
+    // judged such shapes by a lobe too dim (a baked GGX table of roughness 0.08: cosine error 4.24
+    // with specular on its bound, 1.93 now). 1e4 reaches every published scale (specular·K at most
+    // 3.4e3) at any K in K's range.
     return {
-        specular_param(5.0, 0.12, "scale of the specular lobe per channel (Bagher's albedo)"),
+        specular_param(1e4, 0.12, "scale of the specular lobe per channel (Bagher's albedo)"),
         {"alpha", 3, 1e-5, 1.0, 0.025, "SGD width α: smaller is a sharper highlight", Role::Roughness, false, false,
          Spacing::Log},
         {"p", 3, 0.0, 2.0, 0.45, "SGD shape p: larger gives the highlight a longer tail", Role::Shape},
