@@ -157,7 +157,7 @@ Start coordinate_search(const Model& model, Start start, const std::vector<Sampl
   constexpr size_t kWindow = 2;
   std::vector<const ParamSpec*> shape;
   for (const ParamSpec& p : model.parameters())
-    if (!p.linear) shape.push_back(&p);
+    if (!p.linear && !p.only_scales) shape.push_back(&p);  // a scale of a linear one: every value costs alike
   known.add(start);
   bool improved = false;  // in the current pass
   // Moves `start` to the best of parameter p's values axis[first..last] if it is better than

@@ -155,19 +155,20 @@ void judge(const Model& model, const FitResult* baseline, double zero_error, Met
                       "its uncertainty is only indicative",
                       p.name, format_value(p.value), upper ? "upper" : "lower", upper ? spec->upper : spec->lower));
     }
-    if (spec && spec->trades_off_with && (p.at_bound || !p.identifiable)) {
-      const ParamSpec* other = model.find_parameter(spec->trades_off_with);
+    const char* partner_name = spec ? (spec->only_scales ? spec->only_scales : spec->trades_off_with) : nullptr;
+    if (partner_name && (p.at_bound || !p.identifiable)) {
+      const ParamSpec* other = model.find_parameter(partner_name);
       const auto partner = std::find_if(r.parameters.begin(), r.parameters.end(),
-                                        [&](const ParameterEstimate& e) { return e.name == spec->trades_off_with; });
+                                        [&](const ParameterEstimate& e) { return e.name == partner_name; });
       if (other && partner != r.parameters.end()) {
         std::vector<double> product;
         for (size_t i = 0; i < std::max(partner->value.size(), p.value.size()); ++i)
           product.push_back(partner->value[std::min(i, partner->value.size() - 1)] *
                             p.value[std::min(i, p.value.size() - 1)]);
-        r.warnings.push_back(
-            fmt::format("{}·{} = {} is what the data determine (the lobe's reflectance at normal "
-                        "incidence); {} was left where the least-squares optimum put it",
-                        other->name, p.name, format_value(product), p.name));
+        const char* what = spec->only_scales ? "the lobe's scale" : "the lobe's reflectance at normal incidence";
+        r.warnings.push_back(fmt::format(
+            "{}·{} = {} is what the data determine ({}); {} was left where the least-squares optimum put it",
+            other->name, p.name, format_value(product), what, p.name));
       }
     }
     if (!p.identifiable)

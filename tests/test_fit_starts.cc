@@ -23,13 +23,18 @@ using fitting::SolvedCosts;
 using fitting::Start;
 using fitting::subset_covers;
 
-// A registered model that counts its evaluations with doubles.
+// A registered model that counts its evaluations with doubles; optionally with its parameters'
+// only_scales left out (the coordinate search then tries those parameters' values too).
 class CountingModel final : public Model {
  public:
-  explicit CountingModel(const Model& model) : model_(model) {}
+  explicit CountingModel(const Model& model, bool only_scales_declared = true)
+      : model_(model), parameters_(model.parameters()) {
+    if (!only_scales_declared)
+      for (ParamSpec& p : parameters_) p.only_scales = nullptr;
+  }
   const std::string& name() const override { return model_.name(); }
   const std::string& summary() const override { return model_.summary(); }
-  const std::vector<ParamSpec>& parameters() const override { return model_.parameters(); }
+  const std::vector<ParamSpec>& parameters() const override { return parameters_; }
   bool has_brdf() const override { return model_.has_brdf(); }
   bool energy_conserving() const override { return model_.energy_conserving(); }
   Rgb<double> shade(const double* values, const Vec3& l, const Vec3& v) const override {
@@ -52,6 +57,7 @@ class CountingModel final : public Model {
 
  private:
   const Model& model_;
+  std::vector<ParamSpec> parameters_;
 };
 
 TEST(SolvedCosts, FindsAPointByItsShapeValuesWhateverItsLinearValuesAndABoundWhereItSettles) {
@@ -183,6 +189,34 @@ TEST(CoordinateSearch, EndsWhereNoParameterIsBetterWithinTwoStepsOfItsValue) {
     }
   }
   EXPECT_GE(neighbours, 9 * 2);  // at least two neighbours of each of the nine shape colours
+}
+
+TEST(CoordinateSearch, DoesNotTryTheValuesOfAScaleOfALinearParameter) {
+  // sgd's K only scales specular, which every point of the search solves exactly, so each K on
+  // its axis costs the same, to rounding: the search does not try them (ParamSpec::only_scales).
+  // From the same start, a search told nothing of it ends at the same point and cost, after
+  // trying K's 24 values and more.
+  const CountingModel sgd(*find_model("sgd")), sgd_undeclared(*find_model("sgd"), false);
+  auto [data, options, start] = sgd_search(sgd, 9);
+  const int k = sgd.offset_of("K");
+  std::fill_n(start.values.begin() + k, 3, 40.0);
+  start.cost = solved_cost(sgd, start.values, data.samples, options.metric, kAllChannels);
+  SolvedCosts known(sgd), known_undeclared(sgd_undeclared);
+  sgd.evaluations = 0;
+  const Start end = coordinate_search(sgd, start, data.samples, options.metric, kAllChannels, options, known);
+  const Start end_undeclared =
+      coordinate_search(sgd_undeclared, start, data.samples, options.metric, kAllChannels, options, known_undeclared);
+  ASSERT_LT(end.cost, 0.5 * start.cost);
+  EXPECT_EQ(end.values, end_undeclared.values);
+  EXPECT_EQ(end.cost, end_undeclared.cost);
+  for (int c = 0; c < 3; ++c) EXPECT_EQ(end.values[k + c], 40.0);
+  EXPECT_GE(sgd_undeclared.evaluations, sgd.evaluations + 23);
+  for (double value : fitting::grid_axis(*sgd.find_parameter("K"), 24)) {
+    std::vector<double> values = end.values;
+    std::fill_n(values.begin() + k, 3, value);
+    EXPECT_NEAR(solved_cost(sgd, values, data.samples, options.metric, kAllChannels), end.cost, 1e-9 * end.cost)
+        << "K = " << value;
+  }
 }
 
 // Candidates within 1e-5 of every parameter's range are one optimum: ggx's roughness is spaced by

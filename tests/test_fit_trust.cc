@@ -8,6 +8,7 @@
 #include <random>
 
 #include "brdffit/fit.h"
+#include "brdffit/fit_stages.h"
 #include "brdffit/measured.h"
 #include "brdffit/registry.h"
 #include "test_util.h"
@@ -212,6 +213,28 @@ TEST(FitTrust, ATradeOffAtABoundReportsTheProduct) {
   const FitResult fit = fit_model(ct, data, FitOptions{});
   ASSERT_TRUE(fit.ok);
   EXPECT_TRUE(mentions(fit, "specular·f0 = [0.3, 0.2, 0.1]")) << ::testing::PrintToString(fit.warnings);
+}
+
+// sgd's K only scales specular: with both not identifiable, the result says what the data
+// determine, their product per channel (judged from a result as fit_models hands it over).
+TEST(FitTrust, AScaleOfALinearParameterReportsTheProduct) {
+  const Model& sgd = model("sgd");
+  FitResult r;
+  r.model = "sgd";
+  r.ok = true;
+  for (const ParamSpec& p : sgd.parameters()) {
+    ParameterEstimate e;
+    e.name = p.name;
+    e.value.assign(p.channels, p.default_value);
+    e.stddev.assign(p.channels, NAN);
+    if (p.name == "specular") e.value = {0.5, 0.25, 0.125};
+    if (p.name == "K") e.value = {10.0, 20.0, 40.0};
+    e.identifiable = p.name != "specular" && p.name != "K";
+    r.parameters.push_back(e);
+  }
+  fitting::judge(sgd, nullptr, 0.0, Metric::Cosine, false, r);
+  EXPECT_TRUE(mentions(r, "specular·K = [5, 5, 5] is what the data determine (the lobe's scale)"))
+      << ::testing::PrintToString(r.warnings);
 }
 
 }  // namespace

@@ -357,6 +357,39 @@ TEST(AllModels, NonNegativeAndFinite) {
   }
 }
 
+TEST(AllModels, AParameterThatOnlyScalesALinearOneTradesWithItExactly) {
+  // ParamSpec::only_scales: the shaded value depends on the product alone, so the coordinate
+  // search skips the parameter (every value costs the same once the linear one is solved).
+  // Multiplying it by s and its linear partner by 1/s must change nothing, at random values.
+  std::mt19937_64 rng(23);
+  int declared = 0;
+  for (const auto& m : all_models())
+    for (const ParamSpec& p : m->parameters()) {
+      if (!p.only_scales) continue;
+      SCOPED_TRACE(m->name() + ": " + p.name);
+      ++declared;
+      const ParamSpec* partner = m->find_parameter(p.only_scales);
+      ASSERT_NE(partner, nullptr);
+      EXPECT_TRUE(partner->linear);
+      ASSERT_EQ(partner->channels, p.channels);
+      for (int trial = 0; trial < 100; ++trial) {
+        const std::vector<double> x = test::random_values(*m, rng);
+        const Vec3 l = test::random_upper_direction(rng), v = test::random_upper_direction(rng);
+        const Rgb<double> expected = m->shade(x.data(), l, v);
+        for (double s : {0.37, 5.0}) {
+          std::vector<double> y = x;
+          for (int c = 0; c < p.channels; ++c) {
+            y[m->offset_of(p.name) + c] *= s;
+            y[m->offset_of(partner->name) + c] /= s;
+          }
+          const Rgb<double> actual = m->shade(y.data(), l, v);
+          for (int c = 0; c < 3; ++c) ASSERT_NEAR(actual[c], expected[c], 1e-12 * std::max(1.0, std::abs(expected[c])));
+        }
+      }
+    }
+  EXPECT_GE(declared, 1);  // sgd's K
+}
+
 TEST(AllModels, LinearParametersEnterAffinely) {
   // What the fitter's variable projection relies on: shade(a·x + (1-a)·y) = a·shade(x) + (1-a)·shade(y)
   // when x and y differ only in linear parameters.

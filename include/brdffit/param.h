@@ -42,6 +42,11 @@ struct ParamSpec {
   // only specular·f0 shows). When this one sits at a bound or is not identifiable, results
   // report the product.
   const char* trades_off_with = nullptr;
+  // The linear parameter that this one only scales: the shaded value depends on their product
+  // alone (sgd's K and specular, whose published values plug in unchanged). Every point the
+  // coordinate search tries has its linear parameters solved exactly, so each value of this one
+  // would cost the same: the search leaves it where it starts. Results report the product.
+  const char* only_scales = nullptr;
 };
 
 // Number of scalar values a parameter list occupies when flattened (colours take three).

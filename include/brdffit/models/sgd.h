@@ -84,7 +84,7 @@ struct SgdLobe : Lobe {
         {"f0", 3, 0.0, 2.0, 0.07, "Fresnel reflectance at normal incidence (Bagher's eta[0])", Role::F0},
         {"f1", 3, -1.0, 2.0, 0.0, "linear correction of the Fresnel term, −f1·(l·h) (Bagher's eta[1])", Role::Shape},
         {"K", 3, 1.0, 1e5, 7.5, "normalisation of the distribution (Bagher's K; only specular·K matters)", Role::Shape,
-         false, false, Spacing::Log},
+         false, false, Spacing::Log, nullptr, /*only_scales=*/"specular"},
         {"lambda", 3, 0.0, 10.0, 3.0, "strength Λ of the fitted shadowing at grazing angles", Role::Shape},
         {"c", 3, 1e-8, 1e4, 6e-7, "rate c of the fitted shadowing", Role::Shape, false, false, Spacing::Log},
         {"k", 3, 1.0, 500.0, 24.5, "exponent k of the fitted shadowing", Role::Shape},
