@@ -36,7 +36,7 @@ struct FitOptions {
   // every metric (bench_fit --converge shows the difference), and each step on a million samples
   // costs ten on the subset.
   size_t polish_after = 100000;
-  int polish_iterations = 2;
+  int polish_iterations = 2;           // 0: the importance subset's optimum stands, never polished
   uint64_t seed = 1;                   // for the subsample
   bool single_start = false;           // one refinement from the initial values on all samples
   std::vector<double> initial_values;  // flattened start; empty: the model's defaults
