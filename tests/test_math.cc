@@ -78,6 +78,40 @@ TEST(OfParameters, CarriesEachOfSeveralValuesThroughTheChainRule) {
   EXPECT_DOUBLE_EQ(plain_product, 0.7 * 1.3);
 }
 
+// The base under a layer, on Jets of the base's slots only: three values that differentiate by the
+// first two of five slots give the same numbers as on the five, to the bit, and the layer's slots
+// come back 0; a value that also differentiates by a later slot makes it run on all five.
+TEST(OnLeadingSlots, RunsOnTheSlotsTheValuesUseAndGivesTheSameNumbers) {
+  std::array<Jet5, 3> values{Jet5(0.7), Jet5(1.3), Jet5(-0.4)};
+  values[0].v << 1.0, 0.0, 0.0, 0.0, 0.0;
+  values[1].v << 0.0, 1.0, 0.0, 0.0, 0.0;
+  values[2].v << 0.5, -2.0, 0.0, 0.0, 0.0;
+  int narrow_calls = 0, wide_calls = 0;
+  const auto base = [&](const auto* q) {
+    using J = std::decay_t<decltype(q[0])>;
+    if constexpr (!std::is_same_v<J, double>) (J::DIMENSION == 2 ? narrow_calls : wide_calls) += 1;
+    return Rgb<J>(term(q[0], q[1], q[2]), q[0] / q[1], q[2] * q[2] * q[0]);
+  };
+  const Rgb<Jet5> narrow = on_leading_slots<2, 3>(base, values.data());
+  const Rgb<Jet5> wide = base(values.data());
+  EXPECT_EQ(narrow_calls, 1);
+  for (int c = 0; c < 3; ++c) EXPECT_TRUE(same_bits(narrow[c], wide[c])) << "channel " << c;
+  // By hand: ∂(a/b)/∂slot 1 = −a/b² (b is slot 1's value).
+  EXPECT_DOUBLE_EQ(narrow[1].v[1], -0.7 / (1.3 * 1.3));
+  EXPECT_EQ(narrow[0].v[4], 0.0);
+
+  values[2].v[3] = 1.0;  // the third value now differentiates by slot 3 too
+  narrow_calls = wide_calls = 0;
+  const Rgb<Jet5> all_slots = on_leading_slots<2, 3>(base, values.data());
+  EXPECT_EQ(narrow_calls, 0);
+  EXPECT_EQ(wide_calls, 1);
+  EXPECT_NEAR(all_slots[2].v[3], 2.0 * -0.4 * 0.7, 1e-15);  // ∂(c²a)/∂c · 1
+  // Doubles: the term itself.
+  const double plain[3] = {0.7, 1.3, -0.4};
+  const Rgb<double> plain_terms = on_leading_slots<2, 3>(base, plain);
+  EXPECT_DOUBLE_EQ(plain_terms[1], 0.7 / 1.3);
+}
+
 // A term of the parameters alone is computed once for as long as its keys stay the same, to the
 // bit and derivatives included, and again as soon as one changes.
 // A layer's weight that is 0 with no derivative: a double 0, or a Jet that is a constant 0. A Jet

@@ -88,6 +88,41 @@ T of_two_parameters(const T& x, const T& y, F&& f) {
   return of_parameters(f, x, y);
 }
 
+// f(values) for a term of the first `Count` values that a model computes on Jets wider than the
+// derivatives those values carry: the base under a layer (openpbr's under its fuzz), whose values
+// differentiate by the base's own parameters, the first K slots of a model that declares
+// kSeparateChannels (the layers' parameters take the slots after them). Where none of the values
+// has a derivative past slot K, f runs on Jets of K derivatives and its Rgb comes back with 0 in
+// the other slots: the same numbers to the bit, since a Jet's derivatives are computed slot by
+// slot. Otherwise, and on doubles or Jets of K derivatives or fewer, f runs on the values as they
+// are. f takes a pointer to the values.
+template <int K, int Count, class F>
+auto on_leading_slots(F&& f, const double* values) {
+  return f(values);
+}
+template <int K, int Count, class F, template <class, int> class Jet, int N>
+Rgb<Jet<double, N>> on_leading_slots(F&& f, const Jet<double, N>* values) {
+  if constexpr (N <= K) {
+    return f(values);
+  } else {
+    for (int i = 0; i < Count; ++i)
+      if (!values[i].v.template tail<N - K>().isZero(0.0)) return f(values);
+    std::array<Jet<double, K>, Count> narrow;
+    for (int i = 0; i < Count; ++i) {
+      narrow[i].a = values[i].a;
+      narrow[i].v = values[i].v.template head<K>();
+    }
+    const Rgb<Jet<double, K>> y = f(narrow.data());
+    Rgb<Jet<double, N>> out;
+    for (int c = 0; c < 3; ++c) {
+      out[c].a = y[c].a;
+      out[c].v.template head<K>() = y[c].v;
+      out[c].v.template tail<N - K>().setZero();
+    }
+    return out;
+  }
+}
+
 // Whether a and b are the same number with the same derivatives, to the bit (ceres::Jet's ==
 // compares the numbers only, and 0.0 == -0.0).
 inline bool same_bits(double a, double b) {

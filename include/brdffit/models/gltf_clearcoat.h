@@ -75,8 +75,11 @@ struct GltfClearcoat {
   template <class T>
   static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
     if (l.z() <= 0.0 || v.z() <= 0.0) return Rgb<T>(T(0.0), T(0.0), T(0.0));
-    // The core material, of this model's first five values.
-    return gltf_clearcoat_mix(Gltf::brdf(p, l, v), p[kClearcoat], p[kClearcoatRoughness], l, v);
+    // The core material, of this model's first five values, on Jets of its three parameters'
+    // derivatives only (math.h).
+    const Rgb<T> material = on_leading_slots<Gltf::kNumParameters, Gltf::kNumValues>(
+        [&l, &v](const auto* q) { return Gltf::brdf(q, l, v); }, p);
+    return gltf_clearcoat_mix(material, p[kClearcoat], p[kClearcoatRoughness], l, v);
   }
 
   // The recovery tests' material (model.h): glossy as in fits of MERL, the coat (α = 0.04) over

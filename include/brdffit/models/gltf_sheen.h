@@ -264,6 +264,15 @@ inline ParamSpec gltf_sheen_roughness_param() {
           Spacing::Log};
 }
 
+// The core material under the sheen, of a model's first five values (gltf's layout). The sheen's
+// models do not declare kSeparateChannels (max over the sheen's colour): their Jets hold one slot
+// per value, and the core's run on Jets of its five values' derivatives only (math.h).
+template <class T>
+Rgb<T> gltf_core(const T* p, const Vec3& l, const Vec3& v) {
+  return on_leading_slots<Gltf::kNumValues, Gltf::kNumValues>([&l, &v](const auto* q) { return Gltf::brdf(q, l, v); },
+                                                              p);
+}
+
 struct GltfSheen {
   static constexpr const char* kName = "gltf+sheen";
   static constexpr const char* kSummary =
@@ -282,7 +291,7 @@ struct GltfSheen {
   template <class T>
   static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
     if (l.z() <= 0.0 || v.z() <= 0.0) return Rgb<T>(T(0.0), T(0.0), T(0.0));
-    return gltf_sheen_layer(Gltf::brdf(p, l, v), p + kSheenColor, p[kSheenRoughness], l, v);
+    return gltf_sheen_layer(gltf_core(p, l, v), p + kSheenColor, p[kSheenRoughness], l, v);
   }
 
   static RecoveryFacts recovery_facts() { return Gltf::recovery_facts(); }
@@ -326,7 +335,7 @@ struct GltfClearcoatSheen {
   template <class T>
   static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
     if (l.z() <= 0.0 || v.z() <= 0.0) return Rgb<T>(T(0.0), T(0.0), T(0.0));
-    const Rgb<T> sheened = gltf_sheen_layer(Gltf::brdf(p, l, v), p + kSheenColor, p[kSheenRoughness], l, v);
+    const Rgb<T> sheened = gltf_sheen_layer(gltf_core(p, l, v), p + kSheenColor, p[kSheenRoughness], l, v);
     return gltf_clearcoat_mix(sheened, p[kClearcoat], p[kClearcoatRoughness], l, v);
   }
 

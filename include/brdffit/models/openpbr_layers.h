@@ -264,13 +264,19 @@ struct OpenPbrLayers {
   template <class T>
   static Rgb<T> brdf(const T* p, const Vec3& l, const Vec3& v) {
     if (l.z() <= 0.0 || v.z() <= 0.0) return Rgb<T>(T(0.0), T(0.0), T(0.0));
-    Rgb<T> f;
-    if constexpr (kHasCoat)
-      f = openpbr_coat_layer(p, p + kCoat, l, v);
+    // What lies under the fuzz depends on the base's and the coat's parameters alone: it runs on
+    // Jets of their derivatives only (math.h), not the fuzz's too.
+    constexpr int kBelowParameters = OpenPbr::kNumParameters + (kHasCoat ? 4 : 0);
+    const auto below = [&l, &v](const auto* q) {
+      if constexpr (kHasCoat)
+        return openpbr_coat_layer(q, q + kCoat, l, v);
+      else
+        return OpenPbr::brdf(q, l, v);
+    };
+    if constexpr (kHasFuzz)
+      return openpbr_fuzz_layer(on_leading_slots<kBelowParameters, kFuzz>(below, p), p + kFuzz, l, v);
     else
-      f = OpenPbr::brdf(p, l, v);
-    if constexpr (kHasFuzz) f = openpbr_fuzz_layer(f, p + kFuzz, l, v);
-    return f;
+      return below(p);
   }
 
   // As openpbr's (its ior and colours trade off), and the coat's colour with the base's (see
