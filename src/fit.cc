@@ -97,6 +97,9 @@ class Subsamples {
 // (docs/performance.md, twelfth round).
 constexpr double kSubsetAgreement = 0.005;
 
+// The model every verdict compares a fit with (judge), fitted in every run.
+constexpr const char* kBaselineModel = "lambert";
+
 // Whether `candidate` is the largest subset's optimum, its cost on all samples within
 // kSubsetAgreement of the subset's estimate there.
 bool subset_stood_in(const Refinement& candidate, const Refinement& subset_optimum) {
@@ -270,10 +273,11 @@ class Candidates {
     if (costing == Costing::WithLinearSolve && costs_from_linear_solve_) {
       std::vector<double> solution = r.values;
       double cost_as_given = NAN;
-      solve_linear(model_, solution, data_.samples, options_.metric, channels_, &cost_as_given);
+      const double solved_cost =
+          solve_linear(model_, solution, data_.samples, options_.metric, channels_, &cost_as_given);
       if (std::isfinite(cost_as_given)) {
         r.cost = 0.5 * cost_as_given;
-        solved_.emplace_back(r.values, std::move(solution));
+        solved_.push_back({r.values, std::move(solution), 0.5 * solved_cost});
         costing = Costing::Known;
       }
     }
@@ -318,18 +322,26 @@ class Candidates {
   }
 
   // The cheapest candidate with its linear values solved exactly on all samples, kept with its
-  // metrics: the stopping rule (a relative cost change of 1e-6) leaves them wherever the cost is
-  // flat enough, which under a bright peak can be a diffuse albedo a percent off its
-  // least-squares value. A candidate costed WithLinearSolve has its solution already.
+  // metrics (FitOptions::metrics): the stopping rule (a relative cost change of 1e-6) leaves them
+  // wherever the cost is flat enough, which under a bright peak can be a diffuse albedo a percent
+  // off its least-squares value. A candidate costed WithLinearSolve has its solution already, and
+  // its cost there. A fit without metrics keeps the solution at that cost (for a quadratic
+  // metric, from the solve's normal equations): no pass of its own.
   void keep_cheapest_with_exact_linear_values() {
     Refinement exact = *cheapest();
     const auto known =
-        std::find_if(solved_.begin(), solved_.end(), [&](const auto& s) { return s.first == exact.values; });
-    if (known != solved_.end())
-      exact.values = known->second;
-    else
-      solve_linear(model_, exact.values, data_.samples, options_.metric, channels_);
-    keep(std::move(exact), Costing::WithMetrics);
+        std::find_if(solved_.begin(), solved_.end(), [&](const Solved& s) { return s.as_costed == exact.values; });
+    double solved_cost = NAN;
+    if (known != solved_.end()) {
+      exact.values = known->solution;
+      solved_cost = known->cost;
+    } else {
+      const double cost = solve_linear(model_, exact.values, data_.samples, options_.metric, channels_);
+      if (costs_from_linear_solve_) solved_cost = 0.5 * cost;  // without a robust loss, which it leaves out
+    }
+    if (options_.metrics) return keep(std::move(exact), Costing::WithMetrics);
+    exact.cost = solved_cost;
+    keep(std::move(exact), std::isfinite(solved_cost) ? Costing::Known : Costing::Alone);
   }
 
   // The metrics computed with a candidate's cost, if that candidate is at `values`.
@@ -351,7 +363,11 @@ class Candidates {
   std::vector<double> errors_, errors_at_;  // WithErrors' absolute errors, at errors_at_
   std::optional<Metrics> metrics_;          // WithMetrics' metrics, at metrics_at_
   std::vector<double> metrics_at_;
-  std::vector<std::pair<std::vector<double>, std::vector<double>>> solved_;  // values as costed, then solved
+  struct Solved {
+    std::vector<double> as_costed, solution;
+    double cost;  // at the solution (½Σ), from the same normal equations; NaN where they do not give it
+  };
+  std::vector<Solved> solved_;
 };
 
 ChannelFit fit_channels(const Model& model, const SampleSet& data, Subsamples& subsamples, const FitOptions& options,
@@ -706,13 +722,17 @@ FitResult fit_one(const Model& model, const SampleSet& data, Subsamples& subsamp
   }
   report_parameters(model, fits, options.per_channel, result);
   if (data.isotropic) mark_orientation_unidentifiable(result, model);
-  result.metrics = !options.per_channel && fits[0].metrics
-                       ? *fits[0].metrics
-                       : evaluate_metrics(model, result.values, data, result.channel_values);
+  // A fit per channel has no objective over all channels: it keeps its metrics.
+  const bool with_metrics = options.metrics || options.per_channel;
+  if (!options.per_channel) result.objective = fits[0].final.cost;
+  if (!options.per_channel && fits[0].metrics)
+    result.metrics = *fits[0].metrics;
+  else if (with_metrics)
+    result.metrics = evaluate_metrics(model, result.values, data, result.channel_values);
 
   const bool finite =
       std::all_of(result.values.begin(), result.values.end(), [](double v) { return std::isfinite(v); }) &&
-      std::isfinite(result.metrics.get(options.metric));
+      std::isfinite(with_metrics ? result.metrics.get(options.metric) : result.objective);
   result.ok = failure.empty() && finite;
   if (!result.ok)
     result.error = !failure.empty() ? "the fit diverged (" + failure + ")" : "the fit produced non-finite values";
@@ -846,9 +866,11 @@ std::vector<FitResult> fit_models(const std::vector<const Model*>& models, const
   // A fit's objective on all samples from its error (metric_weight_sum): where no robust loss
   // reweights the residuals and no channel has values of its own. NaN elsewhere.
   const double weight_sum = metric_weight_sum(data.samples, options.metric);
-  auto objective_of = [&](const FitResult& r) {
+  auto objective_of = [&](const FitResult& r) -> double {
     const bool known = options.loss == LossKind::None && !options.per_channel && r.channel_values.empty();
-    return known ? 0.5 * std::pow(r.metrics.get(options.metric), 2) * weight_sum : NAN;
+    if (!known) return NAN;
+    const double metric = r.metrics.get(options.metric);
+    return std::isfinite(metric) ? 0.5 * metric * metric * weight_sum : r.objective;  // a start's: no metrics
   };
   auto requested = [&](const std::string& name) {
     return std::any_of(models.begin(), models.end(), [&](const Model* m) { return m->name() == name; });
@@ -886,12 +908,15 @@ std::vector<FitResult> fit_models(const std::vector<const Model*>& models, const
     // importance subsets of its own and polishes its own end. openpbr's polish on blue-acrylic
     // was 0.5 s of each OpenPBR layer's fit; without it no error changed on the sixteen shared
     // tables.
+    // Nor does it need the metrics of its result: the requested fit takes its objective. The
+    // baseline keeps them, for the verdicts.
     FitOptions own = options;
     if (!requested(model.name())) {
       const bool reported = reported_as_isotropic_form(model.name());
       own.initial_values.clear();
       own.single_start = false;
       own.uncertainties = reported;
+      own.metrics = reported || model.name() == kBaselineModel;
       if (!reported) own.polish_iterations = 0;
     }
     const Nesting* form = data.isotropic ? isotropic_form(model) : nullptr;
@@ -910,7 +935,7 @@ std::vector<FitResult> fit_models(const std::vector<const Model*>& models, const
     return fitted.emplace(model.name(), std::move(result)).first->second;
   };
 
-  const Model* lambert = find_model("lambert");
+  const Model* lambert = find_model(kBaselineModel);
   const FitResult* baseline = lambert ? &fit(*lambert) : nullptr;
   const double zero_error = zero_prediction_error(data, options.metric);
   std::vector<FitResult> results;

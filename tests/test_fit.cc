@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <set>
 #include <type_traits>
@@ -148,6 +149,38 @@ TEST(Fit, AFailingModelDoesNotLoseTheOthers) {
   EXPECT_FALSE(results[0].error.empty());
   EXPECT_TRUE(results[1].ok) << results[1].error;
   EXPECT_NEAR(results[1].values[0], 0.4, 1e-9);
+}
+
+// FitOptions::metrics off (fit_models' setting for the models it fits only as starts): the fit
+// takes the same path to the same values and skips only the pass of the metrics; its objective is
+// then what a start needs of it. The objective is checked against ½Σ w·(shade − measured)² summed
+// here, sample by sample. A table larger than the subsample and its first importance subset, so
+// that the result's linear values are solved on all samples after the importance subset's walk.
+TEST(Fit, WithoutItsMetricsAFitEndsWhereItWouldAndReportsItsObjective) {
+  const Model& ggx = *find_model("ggx");
+  const SampleSet data = test::synthetic(
+      ggx, parameter_values(ggx, {"albedo=0.3,0.2,0.1", "roughness=0.25", "f0=0.6,0.5,0.4"}), 30000, 0.02, 7);
+  FitOptions options;
+  options.uncertainties = false;
+  options.subsample = 2000;
+  options.polish_after = 10000;
+  const FitResult with_metrics = fit_model(ggx, data, options);
+  options.metrics = false;
+  const FitResult without = fit_model(ggx, data, options);
+  ASSERT_TRUE(with_metrics.ok && without.ok) << with_metrics.error << without.error;
+  ASSERT_TRUE(std::any_of(without.stages.begin(), without.stages.end(),
+                          [](const StageProfile& s) { return s.stage.rfind("subset of", 0) == 0; }));
+
+  EXPECT_EQ(without.values, with_metrics.values);
+  EXPECT_TRUE(std::isnan(without.metrics.cosine) && std::isnan(without.metrics.log)) << without.metrics.cosine;
+  EXPECT_TRUE(std::isfinite(with_metrics.metrics.cosine));
+  double half_sum = 0.0;
+  for (const Sample& s : data.samples) {
+    const Rgb<double> residual = ggx.shade(with_metrics.values.data(), s.l, s.v) - s.value;
+    half_sum += 0.5 * s.weight * residual.squaredNorm();
+  }
+  EXPECT_NEAR(with_metrics.objective, half_sum, 1e-9 * half_sum);
+  EXPECT_NEAR(without.objective, half_sum, 1e-9 * half_sum);
 }
 
 // FitOptions::cancel: set before the fit, nothing is fitted; set once the solver has

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <atomic>
+#include <cmath>
 #include <functional>
 #include <string>
 #include <utility>
@@ -44,6 +45,10 @@ struct FitOptions {
   // with derivatives over all samples. fit_models leaves them out for the models it fits only as
   // the starts and the baseline of the requested ones.
   bool uncertainties = true;
+  // The result's metrics (FitResult::metrics): one pass over all samples at its values.
+  // fit_models leaves them out for the models it fits only as starts of the requested ones, whose
+  // objective (FitResult::objective) is all the requested fits need of them.
+  bool metrics = true;
   // Parameters held at known values (a dielectric's metallic 0, a known ior 1.5), by name, in every
   // model of the run that has the parameter (every channel of a colour): the fit is that of the
   // remaining parameters, whose standard deviations take the held ones as exact. fit_models
@@ -98,7 +103,10 @@ struct FitResult {
   // prediction uses its own vector. `values` then holds channel R's shape parameters.
   std::vector<std::vector<double>> channel_values;
   std::vector<ParameterEstimate> parameters;
-  Metrics metrics;
+  Metrics metrics;  // NaN where FitOptions::metrics was off
+  // What the fit minimised, at `values` over all samples: Ceres' cost, ½Σ of the squared
+  // residuals (under the robust loss, if any). NaN for a fit per channel.
+  double objective = NAN;
   int iterations = 0;
   std::string termination;  // Ceres' termination type and message
   double seconds = 0.0;
